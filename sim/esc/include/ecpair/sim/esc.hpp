@@ -1,0 +1,107 @@
+#pragma once
+// One emulated EtherCAT Slave Controller (ESC): the register file, the SII
+// EEPROM behind its interface at 0x0500, the AL state machine, FMMUs and
+// SyncManagers over process RAM, DC time registers, DL control/status with
+// the per-port loop logic, and a small application on the PDI side.
+//
+// The segment (topology) owns a chain of Esc objects and moves frames
+// between them; the Esc decides what its processing unit does to a frame
+// and whether each of its ports is open. Both follow esc-facts.md.
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "ecpair/eni/model.hpp"
+#include "ecpair/wire/frame.hpp"
+
+namespace ecpair::sim {
+
+inline constexpr int kMaxPorts = 4;
+
+// What is needed to build one ESC: identity, ports, the mailbox and process
+// data layout (for the SII image and for memory sizes).
+struct EscDescription {
+    std::string name;
+    std::uint32_t vendor_id = 0;
+    std::uint32_t product_code = 0;
+    std::uint32_t revision_no = 0;
+    std::uint32_t serial_no = 0;
+    std::uint16_t alias = 0;        // SII word 4, loaded into 0x0012 at power-on
+    std::uint16_t id_selector = 0;  // the explicit device ID (e.g. a rotary switch)
+    std::string physics = "YY";     // one letter per implemented port (Y = MII, K = EBUS)
+    std::optional<eni::Mailbox> mailbox;
+    eni::ProcessData process_data;
+
+    static EscDescription from_eni(const eni::Slave& slave);
+};
+
+enum class LoopSetting : std::uint8_t { Auto = 0, AutoClose = 1, Open = 2, Closed = 3 };
+
+// Passed with every frame the segment hands to the processing unit.
+struct FrameContext {
+    std::uint64_t time_ns = 0;    // simulated local time when the frame reaches the EPU
+    std::uint64_t frame_seq = 0;  // unique per frame travelling the segment (DC receive-time latch)
+};
+
+enum class EpuVerdict : std::uint8_t { Forward, Destroy };
+
+class Esc {
+public:
+    explicit Esc(EscDescription description);
+    ~Esc();
+    Esc(Esc&&) noexcept;
+    Esc& operator=(Esc&&) noexcept;
+
+    const EscDescription& description() const;
+
+    // ---- processing unit (the port 0 -> EPU leg only)
+    // Processes every datagram of a validated EtherCAT frame in place: ADP
+    // increment, register/RAM/FMMU access, WKC, IRQ, the slave-forwarding bit
+    // of the source MAC, the circulating bit when port 0 is closed. Register
+    // writes, loop settings, EEPROM and AL commands take effect at the end of
+    // the frame. Destroy: the frame dies here (second pass of a circulating frame).
+    EpuVerdict process(wire::FrameView& frame, const FrameContext& context);
+    // A non-EtherCAT frame reaching the EPU: destroyed when the forwarding rule
+    // (0x0100 b0) is on, forwarded unchanged otherwise.
+    EpuVerdict process_non_ethercat() const;
+
+    // ---- ports
+    int port_count() const;                 // implemented ports (from physics)
+    bool port_implemented(int port) const;
+    // Whether frames leave through / come back in through this port, from the
+    // loop setting (0x0101), the physical link and the auto-close state.
+    bool port_open(int port) const;
+    LoopSetting loop_setting(int port) const;
+    void set_physical_link(int port, bool up);  // the segment reports cable/peer changes
+    bool physical_link(int port) const;
+    // A frame reached this port from outside (valid CRC): latches DC receive
+    // times when a latch is pending for this frame, and leaves auto-close's
+    // "closed wait" when the port is in it.
+    void frame_arrived_at_port(int port, std::uint64_t time_ns, std::uint64_t frame_seq);
+
+    // ---- power and faults
+    bool powered() const;
+    void power_off();
+    void power_on();  // registers to reset values, SII reloaded (alias -> 0x0012)
+    void set_eeprom_alias(std::uint16_t alias);  // rewrites SII word 4 and the CRC
+    void set_id_selector(std::uint16_t value);
+
+    // ---- PDI-side view, for tests, the application and diagnostics (no side effects)
+    std::vector<std::uint8_t> read_memory(std::uint16_t address, std::size_t length) const;
+    void write_memory(std::uint16_t address, ConstBytes data);
+    std::uint16_t station_address() const;
+    std::uint16_t station_alias() const;
+    std::uint8_t al_status() const;        // 0x0130 low byte (state + error bit)
+    std::uint16_t al_status_code() const;  // 0x0134
+    const std::vector<std::uint8_t>& sii_image() const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace ecpair::sim
