@@ -1,0 +1,60 @@
+#pragma once
+// Turns the cyclic plan into frames every cycle and their returns into the
+// input image: fills each datagram's written data from the output image,
+// copies each datagram's read data into the input image, and checks every
+// working counter the ENI gives (<Cnt>). Nothing is allocated per cycle:
+// the per-state datagram lists are computed at construction.
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "ecpair/common/bytes.hpp"
+#include "ecpair/eni/model.hpp"
+#include "ecpair/master/cyclic_plan.hpp"
+#include "ecpair/wire/frame.hpp"
+
+namespace ecpair::master {
+
+struct WkcMismatch {
+    std::uint16_t frame = 0;
+    const PlannedDatagram* datagram = nullptr;
+    std::uint16_t expected = 0;
+    std::uint16_t received = 0;
+};
+
+struct FrameCompletion {
+    bool layout_ok = true;   // the returned frame matched what was sent
+    std::uint16_t datagrams = 0;
+    std::uint16_t wkc_errors = 0;
+};
+
+class CyclicExchange {
+public:
+    explicit CyclicExchange(CyclicPlan plan);
+
+    const CyclicPlan& plan() const { return plan_; }
+    std::size_t frame_count() const { return plan_.frames.size(); }
+    // Whether frame `index` has any datagram to send in `state`.
+    bool active(std::size_t index, eni::SlaveState state) const;
+
+    // Writes frame `index` for `state` into `buffer` (Ethernet header given by
+    // the caller) and returns its bytes. Remembers the state for completion.
+    Bytes build(std::size_t index, eni::SlaveState state, ConstBytes outputs, const wire::EthernetHeader& ethernet,
+                Bytes buffer);
+
+    // Applies a returned (merged) frame: read data -> inputs, WKC checks.
+    // Mismatches are appended to `mismatches` up to its capacity.
+    FrameCompletion complete(std::size_t index, const wire::ConstFrameView& returned, Bytes inputs,
+                             std::vector<WkcMismatch>& mismatches);
+
+private:
+    static std::size_t state_slot(eni::SlaveState state);
+
+    CyclicPlan plan_;
+    // active_[frame][state slot] = indices of the frame's datagrams sent in that state.
+    std::vector<std::array<std::vector<std::uint16_t>, 3>> active_;
+    std::vector<std::size_t> last_state_slot_;
+};
+
+}  // namespace ecpair::master

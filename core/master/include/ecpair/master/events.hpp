@@ -1,0 +1,74 @@
+#pragma once
+// What the master tells its application and operators, with the names
+// EtherCAT users know from commercial masters (design.md §5). Events are
+// small values so that the cycle thread can raise them without allocating;
+// text is made by describe() on the consumer's side.
+
+#include <array>
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <mutex>
+#include <string>
+#include <vector>
+
+namespace ecpair::master {
+
+enum class EventKind : std::uint8_t {
+    MasterStateChanged,   // a = from state, b = to state
+    CyclicWkcError,       // a = frame, b = datagram index, c = expected, d = received
+    FrameLost,            // a = frame kind, b = frame index (no copy came back in time)
+    LineBreak,            // a = slaves reachable from MAIN (break after that position), b = 1 if known
+    LineRepaired,
+    LinkDown,             // a = link role
+    LinkUp,               // a = link role
+    BusScanStatus,        // a = slaves found, b = slaves configured, c = 1 if the bus matches
+    BusMismatch,          // a = position, b = mismatch kind (bus::SlaveMatch)
+    SlavePresence,        // a = slave index (ENI order), b = 1 present / 0 absent
+    SlaveStateError,      // a = slave index, b = AL status, c = AL status code
+    TransitionFailed,     // a = from state, b = to state, c = slave index or 0xFFFF for the master
+    FrameResponseError,   // a = reason (FrameResponseReason), b = link role
+    RedStateChanged,      // a = from, b = to (redundancy::RedState)
+    PartnerLost,
+    PartnerFound,
+    PartnerMismatch,      // a = what differs (bit set)
+    Takeover,             // a = cycles without data
+    HandOff,
+    TopologyVerified,     // a = 1 if the background scan matches the mirrored image
+};
+
+enum class FrameResponseReason : std::uint8_t { ForeignSourceMac = 1, Malformed = 2, LateOrStale = 3 };
+
+std::string_view to_string(EventKind kind);
+
+struct Event {
+    EventKind kind = EventKind::MasterStateChanged;
+    std::uint64_t cycle = 0;
+    std::chrono::system_clock::time_point time;
+    std::uint32_t a = 0, b = 0, c = 0, d = 0;
+};
+
+// One line for logs and operators ("cycle 123: line break after slave 2").
+std::string describe(const Event& event);
+
+// A bounded multi-producer queue: producers never wait for the consumer
+// (the lock is held only to copy one event), a full queue drops and counts.
+class EventQueue {
+public:
+    explicit EventQueue(std::size_t capacity = 1024);
+
+    void push(const Event& event);
+    // Waits up to `timeout` for events; returns what is queued (possibly nothing).
+    std::vector<Event> pop_all(std::chrono::milliseconds timeout);
+    std::uint64_t dropped() const;
+
+private:
+    mutable std::mutex mutex_;
+    std::condition_variable ready_;
+    std::vector<Event> ring_;
+    std::size_t head_ = 0;
+    std::size_t count_ = 0;
+    std::uint64_t dropped_ = 0;
+};
+
+}  // namespace ecpair::master

@@ -1,0 +1,164 @@
+#pragma once
+// The master engine, driven by a cycle (the JobTask, design.md §4). Every
+// cycle: take the frames that came back since the last cycle (receive
+// threads hand them over through lock-free rings), merge the MAIN and RED
+// copies, move inputs into the process image and check working counters;
+// run the application's cycle hook; send this cycle's cyclic frames, the
+// extension's frames (redundancy) and a bounded number of acyclic frames.
+//
+// Threads: run_cycle() on the cycle thread only; on_frame() on one receive
+// thread per link; everything else is safe from any thread and takes effect
+// at the next cycle boundary.
+
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "ecpair/common/expected.hpp"
+#include "ecpair/eni/model.hpp"
+#include "ecpair/link/link.hpp"
+#include "ecpair/master/acyclic_queue.hpp"
+#include "ecpair/master/cycle_extension.hpp"
+#include "ecpair/master/cyclic_exchange.hpp"
+#include "ecpair/master/events.hpp"
+#include "ecpair/master/frame_ring.hpp"
+#include "ecpair/master/frame_tracker.hpp"
+#include "ecpair/master/link_role.hpp"
+#include "ecpair/master/process_image.hpp"
+
+namespace ecpair::master {
+
+struct MasterOptions {
+    std::chrono::nanoseconds cycle_time{std::chrono::milliseconds(1)};
+    bool cable_redundancy = false;  // send every frame on MAIN and RED (needs a RED link)
+    bool split_lrw = false;         // with cable redundancy: LRW -> LWR + LRD
+    std::size_t max_acyclic_frames_per_cycle = 2;
+};
+
+struct CycleInfo {
+    std::uint64_t cycle = 0;
+    eni::SlaveState state = eni::SlaveState::Init;
+    bool inputs_valid = false;  // every cyclic frame of the last cycle came back complete
+};
+
+enum class RingState : std::uint8_t { Unknown, Closed, Broken };
+std::string_view to_string(RingState state);
+
+struct MasterStats {
+    std::uint64_t cycles = 0;
+    std::uint64_t frames_sent = 0;
+    std::uint64_t frames_lost = 0;        // no copy came back before the next cycle
+    std::uint64_t cycles_incomplete = 0;  // some cyclic data of the cycle is missing
+    std::uint64_t wkc_errors = 0;
+    std::uint64_t foreign_frames = 0;
+    std::uint64_t send_errors = 0;
+    std::uint64_t rx_dropped = 0;
+};
+
+class Master {
+public:
+    using CycleHook = std::function<void(ProcessImage&, const CycleInfo&)>;
+
+    // Fails when the ENI's cyclic frames cannot be used with these options
+    // (LRW with cable redundancy) or a RED link is missing for redundancy.
+    static Expected<std::unique_ptr<Master>, std::string> create(std::shared_ptr<const eni::EniConfig> eni,
+                                                                 const MasterOptions& options, link::Link& main,
+                                                                 link::Link* red, EventQueue& events);
+    ~Master();
+
+    // ---- cycle thread
+    void run_cycle(link::Clock::time_point now);
+    ProcessImage& image() { return image_; }
+
+    // ---- receive threads
+    void on_frame(LinkRole arrived_on, ConstBytes frame, link::Clock::time_point received_at);
+
+    // ---- any thread
+    bus::BusAccess& bus() { return acyclic_; }
+    AcyclicQueue& acyclic() { return acyclic_; }
+    eni::SlaveState state() const { return state_.load(); }
+    void request_state(eni::SlaveState state) { requested_state_.store(state); }
+    void set_link_state(LinkRole role, bool up);
+    void set_sending(bool enabled) { sending_requested_.store(enabled); }
+    bool sending() const { return sending_.load(); }
+    RingState ring_state() const { return ring_state_.load(); }
+    // Slaves reachable from MAIN while the ring is broken (from the cyclic BRD), 0 when unknown.
+    std::uint16_t reachable_from_main() const { return reachable_from_main_.load(); }
+    MasterStats stats() const;
+    const eni::EniConfig& eni() const { return *eni_; }
+    const MasterOptions& options() const { return options_; }
+    const CyclicPlan& plan() const { return exchange_.plan(); }
+    link::Link& link(LinkRole role) { return role == LinkRole::Main ? main_ : *red_; }
+    bool has_red() const { return red_ != nullptr; }
+
+    // Set before the cycle thread starts.
+    void set_cycle_hook(CycleHook hook) { hook_ = std::move(hook); }
+    void set_extension(CycleExtension* extension) { extension_ = extension; }
+
+private:
+    class Sender;
+    struct InFlight {
+        std::uint8_t id;
+        FrameKind kind;
+        std::uint16_t index;
+        bool sent_red;
+    };
+
+    Master(std::shared_ptr<const eni::EniConfig> eni, const MasterOptions& options, link::Link& main,
+           link::Link* red, EventQueue& events, CyclicPlan plan);
+
+    void accept_returned_frames();
+    void complete_previous_cycle(link::Clock::time_point now);
+    void observe_ring(bool closed, bool broken, std::optional<std::uint16_t> reachable);
+    void apply_requests();
+    void send_frames(link::Clock::time_point now);
+    void send_copies(FrameKind kind, std::uint16_t index, Bytes frame, std::uint8_t retry_index = 0);
+    void raise(EventKind kind, std::uint32_t a = 0, std::uint32_t b = 0, std::uint32_t c = 0, std::uint32_t d = 0);
+    bool use_red() const;
+
+    std::shared_ptr<const eni::EniConfig> eni_;
+    MasterOptions options_;
+    link::Link& main_;
+    link::Link* red_;
+    EventQueue& events_;
+
+    CyclicExchange exchange_;
+    ProcessImage image_;
+    FrameTracker tracker_;
+    AcyclicQueue acyclic_;
+    std::array<FrameRing, 2> rx_rings_;
+    CycleHook hook_;
+    CycleExtension* extension_ = nullptr;
+
+    // Cycle-thread state.
+    std::uint64_t cycle_ = 0;
+    std::vector<InFlight> in_flight_;       // frames sent in the previous cycle
+    std::vector<InFlight> sent_this_cycle_;
+    std::vector<WkcMismatch> mismatches_;
+    std::array<std::uint8_t, wire::kMaxFrameSizeVlan> tx_{};
+    std::array<std::uint8_t, wire::kMaxFrameSizeVlan> merged_{};
+    std::optional<std::size_t> al_status_frame_;      // the cyclic BRD of AL status, for line-break position
+    std::optional<std::size_t> al_status_datagram_;
+    bool inputs_valid_ = false;
+    std::uint64_t foreign_reported_cycle_ = UINT64_MAX;
+
+    // Shared with other threads.
+    std::atomic<eni::SlaveState> state_{eni::SlaveState::Init};
+    std::atomic<eni::SlaveState> requested_state_{eni::SlaveState::Init};
+    std::atomic<bool> sending_{true};
+    std::atomic<bool> sending_requested_{true};
+    std::array<std::atomic<bool>, 2> link_up_{};
+    std::atomic<RingState> ring_state_{RingState::Unknown};
+    std::atomic<std::uint16_t> reachable_from_main_{0};
+    struct AtomicStats {
+        std::atomic<std::uint64_t> cycles{0}, frames_sent{0}, frames_lost{0}, cycles_incomplete{0}, wkc_errors{0},
+            foreign_frames{0}, send_errors{0};
+    } stats_;
+};
+
+}  // namespace ecpair::master

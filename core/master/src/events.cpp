@@ -1,0 +1,124 @@
+#include "ecpair/master/events.hpp"
+
+#include <fmt/format.h>
+
+#include "ecpair/wire/al_status.hpp"
+
+namespace ecpair::master {
+namespace {
+
+std::string role_name(std::uint32_t role) { return role == 0 ? "MAIN" : "RED"; }
+
+std::string state_name(std::uint32_t state) { return wire::al_state_name(static_cast<std::uint8_t>(state)); }
+
+}  // namespace
+
+std::string_view to_string(EventKind kind) {
+    switch (kind) {
+        case EventKind::MasterStateChanged: return "master-state-changed";
+        case EventKind::CyclicWkcError: return "cyclic-wkc-error";
+        case EventKind::FrameLost: return "frame-lost";
+        case EventKind::LineBreak: return "line-break";
+        case EventKind::LineRepaired: return "line-repaired";
+        case EventKind::LinkDown: return "link-down";
+        case EventKind::LinkUp: return "link-up";
+        case EventKind::BusScanStatus: return "bus-scan-status";
+        case EventKind::BusMismatch: return "bus-mismatch";
+        case EventKind::SlavePresence: return "slave-presence";
+        case EventKind::SlaveStateError: return "slave-state-error";
+        case EventKind::TransitionFailed: return "transition-failed";
+        case EventKind::FrameResponseError: return "frame-response-error";
+        case EventKind::RedStateChanged: return "red-state-changed";
+        case EventKind::PartnerLost: return "partner-lost";
+        case EventKind::PartnerFound: return "partner-found";
+        case EventKind::PartnerMismatch: return "partner-mismatch";
+        case EventKind::Takeover: return "takeover";
+        case EventKind::HandOff: return "hand-off";
+        case EventKind::TopologyVerified: return "topology-verified";
+    }
+    return "unknown-event";
+}
+
+std::string describe(const Event& e) {
+    const auto prefix = fmt::format("cycle {}: ", e.cycle);
+    switch (e.kind) {
+        case EventKind::MasterStateChanged:
+            return prefix + fmt::format("master state {} -> {}", state_name(e.a), state_name(e.b));
+        case EventKind::CyclicWkcError:
+            return prefix + fmt::format("cyclic WKC error in frame {} datagram {}: expected {}, received {}", e.a, e.b,
+                                        e.c, e.d);
+        case EventKind::FrameLost: return prefix + fmt::format("frame lost (kind {}, index {})", e.a, e.b);
+        case EventKind::LineBreak:
+            return prefix + (e.b != 0 ? fmt::format("line break after slave {} (slaves reachable from MAIN: {})", e.a, e.a)
+                                      : std::string("line break"));
+        case EventKind::LineRepaired: return prefix + "line repaired: the ring is closed";
+        case EventKind::LinkDown: return prefix + fmt::format("link {} down", role_name(e.a));
+        case EventKind::LinkUp: return prefix + fmt::format("link {} up", role_name(e.a));
+        case EventKind::BusScanStatus:
+            return prefix + fmt::format("bus scan: {} slave(s) found, {} configured, {}", e.a, e.b,
+                                        e.c != 0 ? "match" : "MISMATCH");
+        case EventKind::BusMismatch: return prefix + fmt::format("bus mismatch at position {}", e.a);
+        case EventKind::SlavePresence:
+            return prefix + fmt::format("slave {} {}", e.a, e.b != 0 ? "present" : "absent");
+        case EventKind::SlaveStateError:
+            return prefix + fmt::format("slave {} AL status {} code 0x{:04x} ({})", e.a,
+                                        wire::AlStatus{static_cast<std::uint8_t>(e.b)}.to_string(), e.c,
+                                        wire::al_status_code_text(static_cast<std::uint16_t>(e.c)));
+        case EventKind::TransitionFailed:
+            return prefix + fmt::format("transition {} -> {} failed{}", state_name(e.a), state_name(e.b),
+                                        e.c == 0xFFFF ? std::string() : fmt::format(" at slave {}", e.c));
+        case EventKind::FrameResponseError:
+            return prefix + fmt::format("frame response error on {}: {}", role_name(e.b),
+                                        e.a == static_cast<std::uint32_t>(FrameResponseReason::ForeignSourceMac)
+                                            ? "foreign source MAC"
+                                        : e.a == static_cast<std::uint32_t>(FrameResponseReason::Malformed)
+                                            ? "malformed frame"
+                                            : "late or stale frame");
+        case EventKind::RedStateChanged:
+            return prefix + fmt::format("redundancy state {} -> {}", e.a == 0 ? "INACTIVE" : "ACTIVE",
+                                        e.b == 0 ? "INACTIVE" : "ACTIVE");
+        case EventKind::PartnerLost: return prefix + "partner lost";
+        case EventKind::PartnerFound: return prefix + "partner found";
+        case EventKind::PartnerMismatch: return prefix + fmt::format("partner differs (mask 0x{:x})", e.a);
+        case EventKind::Takeover: return prefix + "takeover: now ACTIVE";
+        case EventKind::HandOff: return prefix + "hand-off";
+        case EventKind::TopologyVerified:
+            return prefix + fmt::format("background scan {} the mirrored topology", e.a != 0 ? "confirms" : "contradicts");
+    }
+    return prefix + "unknown event";
+}
+
+EventQueue::EventQueue(std::size_t capacity) : ring_(capacity) {}
+
+void EventQueue::push(const Event& event) {
+    {
+        std::lock_guard lock(mutex_);
+        if (count_ == ring_.size()) {
+            ++dropped_;
+            return;
+        }
+        ring_[(head_ + count_) % ring_.size()] = event;
+        ++count_;
+    }
+    ready_.notify_one();
+}
+
+std::vector<Event> EventQueue::pop_all(std::chrono::milliseconds timeout) {
+    std::unique_lock lock(mutex_);
+    ready_.wait_for(lock, timeout, [this] { return count_ > 0; });
+    std::vector<Event> out;
+    out.reserve(count_);
+    while (count_ > 0) {
+        out.push_back(ring_[head_]);
+        head_ = (head_ + 1) % ring_.size();
+        --count_;
+    }
+    return out;
+}
+
+std::uint64_t EventQueue::dropped() const {
+    std::lock_guard lock(mutex_);
+    return dropped_;
+}
+
+}  // namespace ecpair::master

@@ -1,0 +1,61 @@
+#include "ecpair/master/frame_tracker.hpp"
+
+#include <algorithm>
+
+#include "ecpair/wire/frame.hpp"
+
+namespace ecpair::master {
+
+FrameTracker::FrameTracker(wire::NicBytes main_nic, wire::NicBytes red_nic)
+    : main_nic_(main_nic), red_nic_(red_nic), slots_(256) {}
+
+std::uint8_t FrameTracker::open(FrameKind kind, std::uint16_t index, std::uint64_t cycle) {
+    const std::uint8_t id = next_id_++;
+    Slot& slot = slots_[id];
+    slot.sent = SentFrame{kind, index, cycle, true};
+    slot.present = {false, false};
+    slot.sizes = {0, 0};
+    return id;
+}
+
+AcceptOutcome FrameTracker::accept(LinkRole arrived_on, ConstBytes frame) {
+    auto view = wire::ConstFrameView::parse(frame);
+    if (!view) return AcceptOutcome::Malformed;
+    const auto source = wire::SourceMac::decode(view->ethernet().source);
+    LinkRole sent_on;
+    if (source.nic == main_nic_) {
+        sent_on = LinkRole::Main;
+    } else if (source.nic == red_nic_) {
+        sent_on = LinkRole::Red;
+    } else {
+        return AcceptOutcome::Foreign;
+    }
+    Slot& slot = slots_[source.frame_id];
+    if (!slot.sent.open) return AcceptOutcome::Stale;
+    const auto copy_index = static_cast<std::size_t>(sent_on);
+    if (slot.present[copy_index]) return AcceptOutcome::Duplicate;
+    const std::size_t size = std::min(frame.size(), slot.copies[copy_index].size());
+    std::copy_n(frame.begin(), size, slot.copies[copy_index].begin());
+    slot.sizes[copy_index] = size;
+    slot.arrived_on[copy_index] = arrived_on;
+    slot.present[copy_index] = true;
+    return AcceptOutcome::Stored;
+}
+
+ReturnedCopy FrameTracker::copy(std::uint8_t id, LinkRole sent_on) const {
+    const Slot& slot = slots_[id];
+    const auto i = static_cast<std::size_t>(sent_on);
+    if (!slot.present[i]) return {};
+    return ReturnedCopy{ConstBytes(slot.copies[i].data(), slot.sizes[i]), classify(sent_on, slot.arrived_on[i])};
+}
+
+wire::MacAddress FrameTracker::source_mac(std::uint8_t id, LinkRole role, std::uint8_t retry_index) const {
+    wire::SourceMac mac;
+    mac.retry_index = retry_index;
+    mac.redundancy = role == LinkRole::Red;
+    mac.frame_id = id;
+    mac.nic = role == LinkRole::Main ? main_nic_ : red_nic_;
+    return mac.encode();
+}
+
+}  // namespace ecpair::master

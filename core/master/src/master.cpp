@@ -1,0 +1,316 @@
+// One cycle, in the order design.md §4 gives for the ACTIVE:
+//   1. accept the frames the receive threads queued since the last cycle,
+//   2. complete the frames sent in the last cycle: merge the MAIN and RED
+//      copies, move inputs into the image, check WKCs, complete acyclic
+//      requests, watch the ring (line break / repair),
+//   3. apply state and sending requests made since,
+//   4. run the application's hook on the image,
+//   5. send the cyclic frames of the current state, the extension's frames
+//      and up to max_acyclic_frames_per_cycle acyclic frames.
+// A frame that has not come back when the next cycle starts is lost.
+
+#include "ecpair/master/master.hpp"
+
+#include <algorithm>
+
+#include <fmt/format.h>
+
+#include "ecpair/common/log.hpp"
+#include "ecpair/wire/esc_registers.hpp"
+#include "ecpair/wire/source_mac.hpp"
+
+namespace ecpair::master {
+
+std::string_view to_string(RingState state) {
+    switch (state) {
+        case RingState::Unknown: return "unknown";
+        case RingState::Closed: return "closed";
+        case RingState::Broken: return "broken";
+    }
+    return "?";
+}
+
+// Lets the extension send frames through the master's tracker and links.
+class Master::Sender final : public FrameSender {
+public:
+    explicit Sender(Master& master) : master_(master) {}
+    Bytes buffer() override { return master_.tx_; }
+    wire::EthernetHeader ethernet() const override {
+        wire::EthernetHeader h;
+        h.destination = wire::MacAddress::broadcast();
+        return h;
+    }
+    void send(std::uint16_t index, Bytes frame) override { master_.send_copies(FrameKind::MasterRed, index, frame); }
+
+private:
+    Master& master_;
+};
+
+Expected<std::unique_ptr<Master>, std::string> Master::create(std::shared_ptr<const eni::EniConfig> eni,
+                                                              const MasterOptions& options, link::Link& main,
+                                                              link::Link* red, EventQueue& events) {
+    if (options.cable_redundancy && red == nullptr) {
+        return unexpected(std::string("cable redundancy needs a RED link"));
+    }
+    if (red != nullptr && wire::NicBytes::of(main.mac()) == wire::NicBytes::of(red->mac())) {
+        return unexpected(fmt::format("MAIN {} and RED {} have the same NIC bytes ({}): every link needs a unique MAC",
+                                      main.name(), red->name(), main.mac().to_string()));
+    }
+    auto plan = CyclicPlan::build(*eni, PlanOptions{options.cable_redundancy, options.split_lrw});
+    if (!plan) return unexpected(plan.error().message);
+    return std::unique_ptr<Master>(new Master(std::move(eni), options, main, red, events, std::move(*plan)));
+}
+
+Master::Master(std::shared_ptr<const eni::EniConfig> eni, const MasterOptions& options, link::Link& main,
+               link::Link* red, EventQueue& events, CyclicPlan plan)
+    : eni_(std::move(eni)),
+      options_(options),
+      main_(main),
+      red_(red),
+      events_(events),
+      exchange_(std::move(plan)),
+      image_(exchange_.plan().input_image_size, exchange_.plan().output_image_size, eni_->process_image),
+      tracker_(wire::NicBytes::of(main.mac()), red ? wire::NicBytes::of(red->mac()) : wire::NicBytes{}),
+      acyclic_(options.max_acyclic_frames_per_cycle) {
+    in_flight_.reserve(256);
+    sent_this_cycle_.reserve(256);
+    mismatches_.reserve(64);
+    link_up_[0].store(main.link_up());
+    link_up_[1].store(red != nullptr && red->link_up());
+    const auto& frames = exchange_.plan().frames;
+    for (std::size_t f = 0; f < frames.size() && !al_status_frame_; ++f) {
+        for (std::size_t d = 0; d < frames[f].datagrams.size(); ++d) {
+            const auto& planned = frames[f].datagrams[d];
+            if (planned.command == wire::Command::Brd &&
+                wire::DatagramHeader{planned.command, 0, planned.address}.ado() == wire::reg::kAlStatus) {
+                al_status_frame_ = f;
+                al_status_datagram_ = d;
+                break;
+            }
+        }
+    }
+    logger("master")->info("master on {}{}: {} cyclic frame(s), {} datagram(s), {} ({} in / {} out bytes)",
+                           main.name(), red ? fmt::format(" + {}", red->name()) : std::string(),
+                           exchange_.frame_count(), exchange_.plan().datagram_count(),
+                           to_string(exchange_.plan().convention), image_.inputs().size(), image_.outputs().size());
+}
+
+Master::~Master() {
+    acyclic_.refuse(bus::BusErrc::Cancelled);
+    acyclic_.fail_in_flight(bus::BusErrc::Cancelled);
+}
+
+bool Master::use_red() const { return options_.cable_redundancy && red_ != nullptr; }
+
+void Master::set_link_state(LinkRole role, bool up) {
+    if (link_up_[static_cast<std::size_t>(role)].exchange(up) != up) {
+        raise(up ? EventKind::LinkUp : EventKind::LinkDown, static_cast<std::uint32_t>(role));
+    }
+}
+
+void Master::on_frame(LinkRole arrived_on, ConstBytes frame, link::Clock::time_point received_at) {
+    rx_rings_[static_cast<std::size_t>(arrived_on)].push(frame, received_at);
+}
+
+void Master::raise(EventKind kind, std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t d) {
+    events_.push(Event{kind, cycle_, std::chrono::system_clock::now(), a, b, c, d});
+}
+
+MasterStats Master::stats() const {
+    MasterStats s;
+    s.cycles = stats_.cycles.load();
+    s.frames_sent = stats_.frames_sent.load();
+    s.frames_lost = stats_.frames_lost.load();
+    s.cycles_incomplete = stats_.cycles_incomplete.load();
+    s.wkc_errors = stats_.wkc_errors.load();
+    s.foreign_frames = stats_.foreign_frames.load();
+    s.send_errors = stats_.send_errors.load();
+    s.rx_dropped = rx_rings_[0].dropped() + rx_rings_[1].dropped();
+    return s;
+}
+
+void Master::run_cycle(link::Clock::time_point now) {
+    ++cycle_;
+    accept_returned_frames();
+    complete_previous_cycle(now);
+    apply_requests();
+    if (hook_) hook_(image_, CycleInfo{cycle_, state_.load(), inputs_valid_});
+    if (sending_.load()) send_frames(now);
+    in_flight_.swap(sent_this_cycle_);
+    sent_this_cycle_.clear();
+    stats_.cycles.fetch_add(1, std::memory_order_relaxed);
+}
+
+void Master::accept_returned_frames() {
+    for (const LinkRole role : {LinkRole::Main, LinkRole::Red}) {
+        rx_rings_[static_cast<std::size_t>(role)].drain([&](const RingFrame& frame) {
+            if (tracker_.accept(role, frame.frame()) != AcceptOutcome::Foreign) return;
+            stats_.foreign_frames.fetch_add(1, std::memory_order_relaxed);
+            // One event per cycle is enough to say "another master is on this bus".
+            if (foreign_reported_cycle_ != cycle_) {
+                foreign_reported_cycle_ = cycle_;
+                raise(EventKind::FrameResponseError, static_cast<std::uint32_t>(FrameResponseReason::ForeignSourceMac),
+                      static_cast<std::uint32_t>(role));
+            }
+        });
+    }
+}
+
+void Master::complete_previous_cycle(link::Clock::time_point now) {
+    bool any_cyclic = false;
+    bool all_complete = true;
+    bool ring_closed = false;
+    bool ring_broken = false;
+    bool lost_reported = false;
+    std::optional<std::uint16_t> reachable;
+    mismatches_.clear();
+
+    for (const InFlight& f : in_flight_) {
+        const ReturnedCopy main_copy = tracker_.copy(f.id, LinkRole::Main);
+        const ReturnedCopy red_copy = f.sent_red ? tracker_.copy(f.id, LinkRole::Red) : ReturnedCopy{};
+        tracker_.close(f.id);
+        if (f.kind == FrameKind::Cyclic) any_cyclic = true;
+        if (f.kind == FrameKind::MasterRed) {
+            if (extension_) extension_->complete(f.index, main_copy, red_copy);
+            continue;
+        }
+        if (f.sent_red && (main_copy.path == CopyPath::Missing || red_copy.path == CopyPath::Missing)) {
+            ring_broken = true;
+        }
+        auto merged = main_copy.path == CopyPath::Missing && red_copy.path == CopyPath::Missing
+                          ? Expected<MergeResult, MergeError>(unexpected(MergeError{"lost"}))
+                          : merge_copies(main_copy, red_copy, merged_);
+        std::optional<wire::ConstFrameView> view;
+        if (merged) {
+            auto parsed = wire::ConstFrameView::parse(ConstBytes(merged_.data(), merged->size));
+            if (parsed) view = *parsed;
+        }
+        if (!view) {
+            stats_.frames_lost.fetch_add(1, std::memory_order_relaxed);
+            if (f.kind == FrameKind::Cyclic) all_complete = false;
+            if (!lost_reported) {
+                lost_reported = true;
+                raise(EventKind::FrameLost, static_cast<std::uint32_t>(f.kind), f.index);
+            }
+            if (f.kind == FrameKind::Acyclic) acyclic_.complete(f.index, nullptr, now);
+            continue;
+        }
+        const bool complete = f.sent_red ? merged->complete : main_copy.path != CopyPath::Missing;
+        ring_closed = ring_closed || merged->ring_closed;
+        ring_broken = ring_broken || merged->ring_broken;
+
+        if (f.kind == FrameKind::Acyclic) {
+            acyclic_.complete(f.index, &*view, now);
+            continue;
+        }
+        if (!complete) all_complete = false;
+        if (al_status_frame_ && f.index == *al_status_frame_ && main_copy.path == CopyPath::BouncedMain) {
+            // The BRD's WKC in the MAIN copy counts the slaves before the break.
+            if (auto own = wire::ConstFrameView::parse(main_copy.frame)) {
+                for (const auto d : *own) {
+                    if (d.index() == *al_status_datagram_ && d.command() == wire::Command::Brd) reachable = d.wkc();
+                }
+            }
+        }
+        const auto result = exchange_.complete(f.index, *view, image_.inputs(), mismatches_);
+        if (!result.layout_ok) all_complete = false;
+        stats_.wkc_errors.fetch_add(result.wkc_errors, std::memory_order_relaxed);
+    }
+    in_flight_.clear();
+
+    for (const WkcMismatch& m : mismatches_) {
+        const auto& datagrams = exchange_.plan().frames[m.frame].datagrams;
+        raise(EventKind::CyclicWkcError, m.frame, static_cast<std::uint32_t>(m.datagram - datagrams.data()), m.expected,
+              m.received);
+    }
+    inputs_valid_ = any_cyclic && all_complete && mismatches_.empty();
+    if (any_cyclic && !all_complete) stats_.cycles_incomplete.fetch_add(1, std::memory_order_relaxed);
+    if (use_red() && any_cyclic) observe_ring(ring_closed, ring_broken, reachable);
+}
+
+void Master::observe_ring(bool closed, bool broken, std::optional<std::uint16_t> reachable) {
+    const RingState previous = ring_state_.load();
+    const RingState now = broken ? RingState::Broken : closed ? RingState::Closed : previous;
+    if (reachable) reachable_from_main_.store(*reachable);
+    if (now == previous) return;
+    ring_state_.store(now);
+    if (now == RingState::Broken) {
+        if (!reachable) reachable_from_main_.store(0);
+        logger("master")->warn("line break{}", reachable ? fmt::format(" after slave {}", *reachable) : std::string());
+        raise(EventKind::LineBreak, reachable.value_or(0), reachable ? 1 : 0);
+    } else if (previous == RingState::Broken) {
+        reachable_from_main_.store(0);
+        logger("master")->info("line repaired: ring closed");
+        raise(EventKind::LineRepaired);
+    }
+}
+
+void Master::apply_requests() {
+    const auto requested = requested_state_.load();
+    const auto current = state_.load();
+    if (requested != current) {
+        state_.store(requested);
+        logger("master")->info("master state {} -> {}", eni::to_string(current), eni::to_string(requested));
+        raise(EventKind::MasterStateChanged, static_cast<std::uint32_t>(current), static_cast<std::uint32_t>(requested));
+    }
+    const bool sending = sending_requested_.load();
+    if (sending != sending_.load()) {
+        sending_.store(sending);
+        logger("master")->info("sending {}", sending ? "enabled" : "stopped");
+    }
+}
+
+void Master::send_frames(link::Clock::time_point now) {
+    wire::EthernetHeader ethernet;
+    ethernet.destination = wire::MacAddress::broadcast();
+    const auto state = state_.load();
+    for (std::size_t i = 0; i < exchange_.frame_count(); ++i) {
+        if (!exchange_.active(i, state)) continue;
+        const auto frame = exchange_.build(i, state, image_.outputs(), ethernet, tx_);
+        send_copies(FrameKind::Cyclic, static_cast<std::uint16_t>(i), frame);
+    }
+    if (extension_) {
+        Sender sender(*this);
+        extension_->send_frames(sender, cycle_);
+    }
+    for (std::size_t k = 0; k < acyclic_.max_frames_per_cycle(); ++k) {
+        wire::FrameBuilder builder(tx_, ethernet);
+        const auto batch = acyclic_.fill_frame(builder, now);
+        if (!batch) break;
+        send_copies(FrameKind::Acyclic, *batch, builder.finish(), acyclic_.retry_index(*batch));
+    }
+}
+
+void Master::send_copies(FrameKind kind, std::uint16_t index, Bytes frame, std::uint8_t retry_index) {
+    const std::uint8_t id = tracker_.open(kind, index, cycle_);
+    auto set_source = [&](LinkRole role) {
+        const auto mac = tracker_.source_mac(id, role, retry_index);
+        std::copy(mac.bytes.begin(), mac.bytes.end(), frame.begin() + 6);
+    };
+    if (link_up_[0].load()) {
+        set_source(LinkRole::Main);
+        if (!main_.send(frame)) stats_.send_errors.fetch_add(1, std::memory_order_relaxed);
+    }
+    bool sent_red = false;
+    if (use_red() && link_up_[1].load()) {
+        set_source(LinkRole::Red);
+        const auto reachable = reachable_from_main_.load();
+        if (kind == FrameKind::Acyclic && ring_state_.load() == RingState::Broken && reachable > 0) {
+            // Beyond a break the RED copy meets slave `reachable` first: shift
+            // auto-increment addresses so they name the same slaves as on MAIN.
+            if (auto view = wire::FrameView::parse(frame)) {
+                for (auto d : *view) {
+                    if (wire::addressing_of(d.command()) != wire::Addressing::AutoIncrement) continue;
+                    const auto h = d.header();
+                    d.set_address(wire::DatagramHeader::physical(static_cast<std::uint16_t>(h.adp() + reachable), h.ado()));
+                }
+            }
+        }
+        if (!red_->send(frame)) stats_.send_errors.fetch_add(1, std::memory_order_relaxed);
+        sent_red = true;
+    }
+    sent_this_cycle_.push_back(InFlight{id, kind, index, sent_red});
+    stats_.frames_sent.fetch_add(1, std::memory_order_relaxed);
+}
+
+}  // namespace ecpair::master

@@ -1,0 +1,41 @@
+// ecpairctl: the operator's command line for ecpair. Offline helpers for
+// now (validate an ENI, scan a bus); the daemon commands come with ecpaird.
+
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "eni_command.hpp"
+#include "scan_command.hpp"
+
+namespace {
+
+constexpr int kUsage = 2;
+
+void print_usage(std::ostream& out) {
+    out << "usage: ecpairctl COMMAND [ARGS]\n"
+           "commands:\n"
+           "  eni FILE                  validate and summarise an ENI file\n"
+           "  scan --if IF [--eni FILE] scan the bus on interface IF (compare with an ENI)\n"
+           "  help                      this text\n";
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    if (argc < 2) {
+        print_usage(std::cerr);
+        return kUsage;
+    }
+    const std::string command = argv[1];
+    const std::vector<std::string> args(argv + 2, argv + argc);
+    if (command == "eni") return ecpair::ctl::run_eni_command(args, std::cout, std::cerr);
+    if (command == "scan") return ecpair::ctl::run_scan_command(args, std::cout, std::cerr);
+    if (command == "help" || command == "--help" || command == "-h") {
+        print_usage(std::cout);
+        return 0;
+    }
+    std::cerr << "ecpairctl: unknown command '" << command << "'\n";
+    print_usage(std::cerr);
+    return kUsage;
+}
