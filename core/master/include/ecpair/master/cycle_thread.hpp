@@ -1,0 +1,68 @@
+#pragma once
+// The cycle thread (JobTask): wakes on an absolute deadline with
+// clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME), so that jitter never
+// accumulates, and runs the cycle body. It asks for SCHED_FIFO; when the
+// system does not permit it, it says so once and runs anyway.
+//
+// Timing is measured as it goes: how late each wake-up was (a histogram with
+// 1 µs buckets), how many cycles started late, how many were skipped because
+// the previous one overran.
+
+#include <array>
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "ecpair/link/link.hpp"
+
+namespace ecpair::master {
+
+struct CycleThreadOptions {
+    std::chrono::nanoseconds period{std::chrono::milliseconds(1)};
+    int realtime_priority = 80;  // 0: do not ask for SCHED_FIFO
+    // A cycle that wakes later than this after its deadline counts as late.
+    std::chrono::nanoseconds late_threshold{0};  // 0: a quarter of the period
+    std::string name = "ecpair-cycle";
+};
+
+struct CycleTiming {
+    std::uint64_t cycles = 0;
+    std::uint64_t late = 0;
+    std::uint64_t skipped = 0;  // deadlines missed entirely (overrun)
+    std::chrono::nanoseconds max_wake_latency{0};
+    bool realtime = false;
+    // Wake-up latency percentile (0..100) from the histogram, in µs.
+    double latency_percentile_us(double percentile) const;
+    std::vector<std::uint64_t> histogram_us;  // [i] = wake-ups i..i+1 µs late; the last bucket collects the rest
+};
+
+class CycleThread {
+public:
+    using Body = std::function<void(link::Clock::time_point deadline)>;
+
+    CycleThread(CycleThreadOptions options, Body body);
+    ~CycleThread();
+    CycleThread(const CycleThread&) = delete;
+    CycleThread& operator=(const CycleThread&) = delete;
+
+    void start();
+    void stop();  // waits for the running cycle to finish
+    CycleTiming timing() const;
+
+private:
+    void run();
+
+    CycleThreadOptions options_;
+    Body body_;
+    std::thread thread_;
+    std::atomic<bool> stop_{false};
+    mutable std::mutex timing_mutex_;
+    CycleTiming timing_;
+};
+
+}  // namespace ecpair::master

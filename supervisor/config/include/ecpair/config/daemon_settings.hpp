@@ -1,0 +1,52 @@
+#pragma once
+// The validated configuration of one ecpaird (from a .textproto, see
+// proto/ecpair/config.proto). Loading reports the file, line and field of
+// the first problem; everything after loading can trust these values.
+
+#include <chrono>
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "ecpair/common/expected.hpp"
+#include "ecpair/eni/model.hpp"
+
+namespace ecpair::config {
+
+enum class DemoKind : std::uint8_t { None, WalkingBit, LoopbackCheck };
+
+struct DaemonSettings {
+    std::string name = "ecpaird";
+    std::string main_interface;
+    std::string red_interface;  // empty: no RED adapter
+    std::string eni_path;       // resolved against the config file's directory
+    std::chrono::microseconds cycle_time{1000};
+    bool cycle_time_from_config = false;
+    bool cable_redundancy = false;
+    bool split_lrw = false;
+    eni::SlaveState target_state = eni::SlaveState::Op;
+    DemoKind demo = DemoKind::None;
+    std::uint32_t demo_step_cycles = 1;
+    std::string control_path;
+    std::uint32_t control_mode = 0660;
+    std::string control_group;
+    std::uint32_t max_acyclic_frames_per_cycle = 2;
+    int realtime_priority = 80;
+    std::string log_level = "info";
+};
+
+struct ConfigError {
+    std::string file;
+    int line = 0;       // 1-based; 0 when the problem is not at one place in the file
+    int column = 0;
+    std::string field;  // "interfaces.main", "cycle_time_us"...
+    std::string message;
+
+    std::string describe() const;  // "ecpaird.textproto:4:3: cycle_time_us: must be 100..100000 µs (got 5)"
+};
+
+Expected<DaemonSettings, ConfigError> load_daemon_settings(const std::string& path);
+// For tests and fuzzing: `name` stands in for the file name in errors.
+Expected<DaemonSettings, ConfigError> parse_daemon_settings(const std::string& text, const std::string& name = "<memory>");
+
+}  // namespace ecpair::config

@@ -1,0 +1,169 @@
+// Parsing is protobuf's TextFormat (syntax and unknown-field errors come
+// with line and column); validation afterwards names the field and, where
+// the parser recorded it, the line of the field.
+
+#include "ecpair/config/daemon_settings.hpp"
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <fmt/format.h>
+#include <google/protobuf/io/tokenizer.h>
+#include <google/protobuf/text_format.h>
+
+#include "ecpair/config.pb.h"
+
+namespace ecpair::config {
+namespace {
+
+namespace pb = google::protobuf;
+
+class FirstErrorCollector final : public pb::io::ErrorCollector {
+public:
+    void AddError(int line, pb::io::ColumnNumber column, const std::string& message) override {
+        if (!error) error = ConfigError{{}, line + 1, column + 1, {}, message};
+    }
+    void AddWarning(int, pb::io::ColumnNumber, const std::string&) override {}
+    std::optional<ConfigError> error;
+};
+
+// Where each field was written, to point errors at it.
+struct Locations {
+    pb::TextFormat::ParseInfoTree tree;
+
+    std::pair<int, int> of(const pb::Message& message, const std::string& path) const {
+        const pb::TextFormat::ParseInfoTree* node = &tree;
+        const pb::Message* current = &message;
+        std::stringstream parts(path);
+        std::string part;
+        std::vector<std::string> names;
+        while (std::getline(parts, part, '.')) names.push_back(part);
+        for (std::size_t i = 0; i < names.size(); ++i) {
+            const auto* field = current->GetDescriptor()->FindFieldByName(names[i]);
+            if (field == nullptr) return {0, 0};
+            if (i + 1 == names.size()) {
+                const auto location = node->GetLocation(field, -1);
+                return {location.line + 1, location.column + 1};
+            }
+            node = node->GetTreeForNested(field, -1);
+            if (node == nullptr || field->type() != pb::FieldDescriptor::TYPE_MESSAGE) return {0, 0};
+            current = &current->GetReflection()->GetMessage(*current, field);
+        }
+        return {0, 0};
+    }
+};
+
+eni::SlaveState to_state(config::TargetState state) {
+    switch (state) {
+        case config::INIT: return eni::SlaveState::Init;
+        case config::PREOP: return eni::SlaveState::Preop;
+        case config::SAFEOP: return eni::SlaveState::Safeop;
+        default: return eni::SlaveState::Op;
+    }
+}
+
+}  // namespace
+
+std::string ConfigError::describe() const {
+    std::string where = file;
+    if (line > 0) where += fmt::format(":{}:{}", line, column);
+    return field.empty() ? fmt::format("{}: {}", where, message) : fmt::format("{}: {}: {}", where, field, message);
+}
+
+Expected<DaemonSettings, ConfigError> parse_daemon_settings(const std::string& text, const std::string& name) {
+    config::DaemonConfig proto;
+    FirstErrorCollector errors;
+    Locations locations;
+    pb::TextFormat::Parser parser;
+    parser.RecordErrorsTo(&errors);
+    parser.WriteLocationsTo(&locations.tree);
+    if (!parser.ParseFromString(text, &proto)) {
+        ConfigError error = errors.error.value_or(ConfigError{{}, 0, 0, {}, "cannot parse"});
+        error.file = name;
+        return unexpected(error);
+    }
+    auto fail = [&](const std::string& field, std::string message) {
+        const auto [line, column] = locations.of(proto, field);
+        return unexpected(ConfigError{name, line, column, field, std::move(message)});
+    };
+
+    DaemonSettings s;
+    if (!proto.name().empty()) s.name = proto.name();
+    if (proto.interfaces().main().empty()) return fail("interfaces.main", "required (the adapter facing slave 1)");
+    s.main_interface = proto.interfaces().main();
+    s.red_interface = proto.interfaces().red();
+    if (!s.red_interface.empty() && s.red_interface == s.main_interface) {
+        return fail("interfaces.red", fmt::format("must differ from interfaces.main ('{}')", s.main_interface));
+    }
+    if (proto.eni_path().empty()) return fail("eni_path", "required");
+    s.eni_path = proto.eni_path();
+    if (proto.has_cycle_time_us()) {
+        if (proto.cycle_time_us() < 100 || proto.cycle_time_us() > 100'000) {
+            return fail("cycle_time_us", fmt::format("must be 100..100000 µs (got {})", proto.cycle_time_us()));
+        }
+        s.cycle_time = std::chrono::microseconds(proto.cycle_time_us());
+        s.cycle_time_from_config = true;
+    }
+    s.cable_redundancy = proto.cable_redundancy();
+    if (s.cable_redundancy && s.red_interface.empty()) {
+        return fail("cable_redundancy", "needs interfaces.red");
+    }
+    s.split_lrw = proto.split_lrw();
+    if (s.split_lrw && !s.cable_redundancy) return fail("split_lrw", "only applies with cable_redundancy");
+    s.target_state = to_state(proto.target_state());
+    switch (proto.demo().kind()) {
+        case config::DemoApplication::WALKING_BIT: s.demo = DemoKind::WalkingBit; break;
+        case config::DemoApplication::LOOPBACK_CHECK: s.demo = DemoKind::LoopbackCheck; break;
+        default: s.demo = DemoKind::None; break;
+    }
+    if (proto.demo().step_cycles() != 0) s.demo_step_cycles = proto.demo().step_cycles();
+    s.control_path = proto.control().path().empty() ? fmt::format("/run/ecpair/{}.sock", s.name) : proto.control().path();
+    if (proto.control().mode() != 0) {
+        if (proto.control().mode() > 0777) {
+            return fail("control.mode", fmt::format("must be permission bits 0..0777 (got {:o})", proto.control().mode()));
+        }
+        s.control_mode = proto.control().mode();
+    }
+    s.control_group = proto.control().group();
+    if (proto.has_max_acyclic_frames_per_cycle()) {
+        if (proto.max_acyclic_frames_per_cycle() < 1 || proto.max_acyclic_frames_per_cycle() > 16) {
+            return fail("max_acyclic_frames_per_cycle",
+                        fmt::format("must be 1..16 (got {})", proto.max_acyclic_frames_per_cycle()));
+        }
+        s.max_acyclic_frames_per_cycle = proto.max_acyclic_frames_per_cycle();
+    }
+    if (proto.has_realtime_priority()) {
+        if (proto.realtime_priority() < 0 || proto.realtime_priority() > 99) {
+            return fail("realtime_priority", fmt::format("must be 0..99 (got {})", proto.realtime_priority()));
+        }
+        s.realtime_priority = proto.realtime_priority();
+    }
+    if (!proto.log_level().empty()) {
+        static constexpr std::string_view kLevels[] = {"trace", "debug", "info", "warn", "error", "critical", "off"};
+        if (std::find(std::begin(kLevels), std::end(kLevels), proto.log_level()) == std::end(kLevels)) {
+            return fail("log_level", fmt::format("'{}' is not one of trace, debug, info, warn, error, critical, off",
+                                                 proto.log_level()));
+        }
+        s.log_level = proto.log_level();
+    }
+    return s;
+}
+
+Expected<DaemonSettings, ConfigError> load_daemon_settings(const std::string& path) {
+    std::ifstream in(path);
+    if (!in) return unexpected(ConfigError{path, 0, 0, {}, "cannot open the file"});
+    std::stringstream text;
+    text << in.rdbuf();
+    auto settings = parse_daemon_settings(text.str(), path);
+    if (!settings) return settings;
+    // A relative ENI path is relative to the config file.
+    const std::filesystem::path eni(settings->eni_path);
+    if (eni.is_relative()) {
+        settings->eni_path = (std::filesystem::path(path).parent_path() / eni).lexically_normal().string();
+    }
+    return settings;
+}
+
+}  // namespace ecpair::config
