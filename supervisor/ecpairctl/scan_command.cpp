@@ -1,5 +1,6 @@
 #include "scan_command.hpp"
 
+#include <algorithm>
 #include <ostream>
 
 #include <boost/program_options.hpp>
@@ -39,10 +40,13 @@ void print_table(std::ostream& out, const bus::ScanReport& report,
                                       wire::al_status_code_text(slave.al_status_code));
         fmt::print(out, "{:>3}  0x{:04x}  {:>5}  {:<11} {:<40} {}", slave.position, slave.station_address,
                    slave.alias, slave.al_status.to_string(), code, identity_column(slave));
-        if (comparisons && slave.position < comparisons->size()) {
-            const auto& c = (*comparisons)[slave.position];
-            fmt::print(out, "  {}{}", bus::to_string(c.match),
-                       c.configured ? fmt::format(" '{}'", c.configured->info.name) : std::string());
+        if (comparisons) {
+            const auto c = std::find_if(comparisons->begin(), comparisons->end(),
+                                        [&slave](const bus::SlaveComparison& e) { return e.found == &slave; });
+            if (c != comparisons->end()) {
+                fmt::print(out, "  {}{}", bus::to_string(c->match),
+                           c->configured ? fmt::format(" '{}'", c->configured->info.name) : std::string());
+            }
         }
         fmt::print(out, "\n");
         if (!slave.error.empty()) fmt::print(out, "     ! {}\n", slave.error);
@@ -110,7 +114,7 @@ int run_scan_command(const std::vector<std::string>& args, std::ostream& out, st
     } else {
         fmt::print(out, "bus does NOT match the ENI:\n");
         for (const auto& c : comparisons) {
-            if (c.match != bus::SlaveMatch::Match) fmt::print(out, "  {}\n", c.describe());
+            if (c.is_mismatch()) fmt::print(out, "  {}\n", c.describe());
         }
     }
     return matches ? kOk : kMismatch;

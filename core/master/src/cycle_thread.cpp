@@ -1,14 +1,12 @@
 #include "ecpair/master/cycle_thread.hpp"
 
 #include <pthread.h>
-#include <sched.h>
 #include <time.h>
 
 #include <algorithm>
 #include <cerrno>
-#include <cstring>
 
-#include "ecpair/common/log.hpp"
+#include "ecpair/common/realtime.hpp"
 
 namespace ecpair::master {
 namespace {
@@ -21,20 +19,6 @@ timespec to_timespec(link::Clock::time_point t) {
     ts.tv_sec = static_cast<time_t>(ns / 1'000'000'000);
     ts.tv_nsec = static_cast<long>(ns % 1'000'000'000);
     return ts;
-}
-
-bool try_realtime(int priority) {
-    if (priority <= 0) return false;
-    sched_param param{};
-    param.sched_priority = priority;
-    const int rc = pthread_setschedparam(pthread_self(), SCHED_FIFO, &param);
-    if (rc == 0) {
-        logger("cycle")->info("cycle thread runs with SCHED_FIFO priority {}", priority);
-        return true;
-    }
-    logger("cycle")->warn("real-time scheduling not permitted ({}): the cycle thread runs with normal priority",
-                          std::strerror(rc));
-    return false;
 }
 
 }  // namespace
@@ -76,7 +60,7 @@ CycleTiming CycleThread::timing() const {
 
 void CycleThread::run() {
     pthread_setname_np(pthread_self(), options_.name.substr(0, 15).c_str());
-    const bool realtime = try_realtime(options_.realtime_priority);
+    const bool realtime = request_realtime(options_.realtime_priority, "cycle thread");
     {
         std::lock_guard lock(timing_mutex_);
         timing_.realtime = realtime;

@@ -58,6 +58,15 @@ Expected<std::unique_ptr<Master>, std::string> Master::create(std::shared_ptr<co
     }
     auto plan = CyclicPlan::build(*eni, PlanOptions{options.cable_redundancy, options.split_lrw});
     if (!plan) return unexpected(plan.error().message);
+    const auto& layout = eni->process_image;
+    const std::size_t inputs = std::max(plan->input_image_size, layout ? ProcessImage::bytes_needed(layout->inputs) : 0);
+    const std::size_t outputs =
+        std::max(plan->output_image_size, layout ? ProcessImage::bytes_needed(layout->outputs) : 0);
+    if (inputs > ProcessImage::kMaxBytes || outputs > ProcessImage::kMaxBytes) {
+        return unexpected(fmt::format("{}: the process image needs {} input and {} output bytes, more than the {} "
+                                      "bytes ecpair accepts",
+                                      eni->source_path, inputs, outputs, ProcessImage::kMaxBytes));
+    }
     return std::unique_ptr<Master>(new Master(std::move(eni), options, main, red, events, std::move(*plan)));
 }
 
@@ -124,6 +133,7 @@ MasterStats Master::stats() const {
     s.cycles_incomplete = stats_.cycles_incomplete.load();
     s.wkc_errors = stats_.wkc_errors.load();
     s.foreign_frames = stats_.foreign_frames.load();
+    s.late_frames = stats_.late_frames.load();
     s.send_errors = stats_.send_errors.load();
     s.rx_dropped = rx_rings_[0].dropped() + rx_rings_[1].dropped();
     return s;
@@ -144,7 +154,9 @@ void Master::run_cycle(link::Clock::time_point now) {
 void Master::accept_returned_frames() {
     for (const LinkRole role : {LinkRole::Main, LinkRole::Red}) {
         rx_rings_[static_cast<std::size_t>(role)].drain([&](const RingFrame& frame) {
-            if (tracker_.accept(role, frame.frame()) != AcceptOutcome::Foreign) return;
+            const auto outcome = tracker_.accept(role, frame.frame());
+            if (outcome == AcceptOutcome::Stale) stats_.late_frames.fetch_add(1, std::memory_order_relaxed);
+            if (outcome != AcceptOutcome::Foreign) return;
             stats_.foreign_frames.fetch_add(1, std::memory_order_relaxed);
             // One event per cycle is enough to say "another master is on this bus".
             if (foreign_reported_cycle_ != cycle_) {
@@ -174,9 +186,6 @@ void Master::complete_previous_cycle(link::Clock::time_point now) {
             if (extension_) extension_->complete(f.index, main_copy, red_copy);
             continue;
         }
-        if (f.sent_red && (main_copy.path == CopyPath::Missing || red_copy.path == CopyPath::Missing)) {
-            ring_broken = true;
-        }
         auto merged = main_copy.path == CopyPath::Missing && red_copy.path == CopyPath::Missing
                           ? Expected<MergeResult, MergeError>(unexpected(MergeError{"lost"}))
                           : merge_copies(main_copy, red_copy, merged_);
@@ -185,7 +194,17 @@ void Master::complete_previous_cycle(link::Clock::time_point now) {
             auto parsed = wire::ConstFrameView::parse(ConstBytes(merged_.data(), merged->size));
             if (parsed) view = *parsed;
         }
-        if (!view) {
+        // A frame counts only when it equals one pass through the whole ring:
+        // an unprocessed RED copy alone, or one side of a break alone, would
+        // put stale zeros into the inputs. Such a frame is lost for this cycle
+        // (acyclic requests go out again).
+        const bool complete =
+            view.has_value() && (f.sent_red ? merged->complete : main_copy.path != CopyPath::Missing);
+        if (merged) {
+            ring_closed = ring_closed || merged->ring_closed;
+            ring_broken = ring_broken || merged->ring_broken;
+        }
+        if (!complete) {
             stats_.frames_lost.fetch_add(1, std::memory_order_relaxed);
             if (f.kind == FrameKind::Cyclic) all_complete = false;
             if (!lost_reported) {
@@ -195,15 +214,11 @@ void Master::complete_previous_cycle(link::Clock::time_point now) {
             if (f.kind == FrameKind::Acyclic) acyclic_.complete(f.index, nullptr, now);
             continue;
         }
-        const bool complete = f.sent_red ? merged->complete : main_copy.path != CopyPath::Missing;
-        ring_closed = ring_closed || merged->ring_closed;
-        ring_broken = ring_broken || merged->ring_broken;
 
         if (f.kind == FrameKind::Acyclic) {
             acyclic_.complete(f.index, &*view, now);
             continue;
         }
-        if (!complete) all_complete = false;
         if (al_status_frame_ && f.index == *al_status_frame_ && main_copy.path == CopyPath::BouncedMain) {
             // The BRD's WKC in the MAIN copy counts the slaves before the break.
             if (auto own = wire::ConstFrameView::parse(main_copy.frame)) {

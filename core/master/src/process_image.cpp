@@ -4,9 +4,7 @@
 #include <cassert>
 
 namespace ecpair::master {
-namespace {
-
-std::size_t bytes_for(const std::optional<eni::ProcessImageSection>& section) {
+std::size_t ProcessImage::bytes_needed(const std::optional<eni::ProcessImageSection>& section) {
     if (!section) return 0;
     std::size_t size = section->byte_size;
     for (const auto& v : section->variables) {
@@ -14,8 +12,6 @@ std::size_t bytes_for(const std::optional<eni::ProcessImageSection>& section) {
     }
     return size;
 }
-
-}  // namespace
 
 std::uint64_t read_bits(ConstBytes bytes, std::uint32_t bit_offset, std::uint32_t bit_size) {
     assert(bit_size <= 64);
@@ -57,8 +53,8 @@ ProcessImage::ProcessImage(std::size_t input_size, std::size_t output_size,
     : layout_(layout) {
     const auto* in = layout_ ? &layout_->inputs : nullptr;
     const auto* out = layout_ ? &layout_->outputs : nullptr;
-    inputs_.assign(std::max(input_size, in ? bytes_for(*in) : 0), 0);
-    outputs_.assign(std::max(output_size, out ? bytes_for(*out) : 0), 0);
+    inputs_.assign(std::max(input_size, in ? bytes_needed(*in) : 0), 0);
+    outputs_.assign(std::max(output_size, out ? bytes_needed(*out) : 0), 0);
 
     auto index = [this](const std::optional<eni::ProcessImageSection>& section, ImageSection which,
                         std::vector<VariableRef>& refs) {

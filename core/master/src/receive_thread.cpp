@@ -10,12 +10,17 @@
 #include <cstring>
 
 #include "ecpair/common/log.hpp"
+#include "ecpair/common/realtime.hpp"
 #include "ecpair/wire/constants.hpp"
 
 namespace ecpair::master {
 
-ReceiveThread::ReceiveThread(link::Link& link, Handler handler, std::string name)
-    : link_(link), handler_(std::move(handler)), name_(std::move(name)), stop_fd_(eventfd(0, EFD_CLOEXEC)) {}
+ReceiveThread::ReceiveThread(link::Link& link, Handler handler, std::string name, int realtime_priority)
+    : link_(link),
+      handler_(std::move(handler)),
+      name_(std::move(name)),
+      realtime_priority_(realtime_priority),
+      stop_fd_(eventfd(0, EFD_CLOEXEC)) {}
 
 ReceiveThread::~ReceiveThread() {
     stop();
@@ -39,6 +44,7 @@ void ReceiveThread::stop() {
 
 void ReceiveThread::run() {
     pthread_setname_np(pthread_self(), name_.substr(0, 15).c_str());
+    request_realtime(realtime_priority_, name_);
     std::array<std::uint8_t, wire::kMaxFrameSizeVlan + 64> buffer{};
     std::array<pollfd, 2> fds{pollfd{link_.selectable_fd(), POLLIN, 0}, pollfd{stop_fd_, POLLIN, 0}};
     while (!stop_.load()) {

@@ -86,8 +86,12 @@ Expected<BasicFrameView<Byte>, DecodeError> BasicFrameView<Byte>::parse(std::spa
     return BasicFrameView(frame, *ethernet, ecat_offset, count, offset);
 }
 
-template class BasicFrameView<std::uint8_t>;
-template class BasicFrameView<const std::uint8_t>;
+// Only parse() is defined out of line; instantiating the whole class for
+// const bytes would also instantiate the mutators (clang does).
+template Expected<BasicFrameView<std::uint8_t>, DecodeError> BasicFrameView<std::uint8_t>::parse(
+    std::span<std::uint8_t>);
+template Expected<BasicFrameView<const std::uint8_t>, DecodeError> BasicFrameView<const std::uint8_t>::parse(
+    std::span<const std::uint8_t>);
 
 FrameBuilder::FrameBuilder(Bytes buffer, const EthernetHeader& ethernet)
     : buffer_(buffer), ecat_offset_(ethernet.size()) {

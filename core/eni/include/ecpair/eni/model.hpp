@@ -76,7 +76,7 @@ struct EcatCmd {
     Requires requires_ = Requires::None;
     wire::Command command = wire::Command::Nop;
     // Adp/Ado for physical commands (Adp as written: AutoIncAddr or PhysAddr),
-    // or the logical address in `address` for Lxx.
+    // or the logical address in `logical_address` for Lxx.
     std::uint16_t adp = 0;
     std::uint16_t ado = 0;
     std::uint32_t logical_address = 0;
@@ -108,13 +108,16 @@ struct CoeInitCmd {
 struct Identification {
     std::uint16_t ado = 0;                 // 0x0134 explicit device ID, 0x0012 station alias
     std::optional<std::uint16_t> value;    // the expected identification value
+    bool enabled = true;                   // EAS writes EnableIdentification="False" to switch the check off
 };
 
 struct SlaveInfo {
     std::string name;
     std::uint16_t phys_addr = 0;
     std::uint16_t auto_inc_addr = 0;  // as written: 0, 65535, 65534... (Advantech: 0, 1, 2...)
-    std::uint16_t ring_position = 0;  // 0-based position in the ring, derived by the loader
+    // 0-based position in the ring, derived by the loader from AutoIncAddr with
+    // one reading per file (docs/ENI.md "Ring positions").
+    std::uint16_t ring_position = 0;
     std::string physics;              // one letter per port: Y, K, ...
     std::uint32_t vendor_id = 0;
     std::uint32_t product_code = 0;
@@ -176,6 +179,18 @@ struct MailboxArea {
     std::uint16_t length = 0;
 };
 
+// An EoE InitCmd from <Mailbox><EoE><InitCmds>: an EoE "set IP parameter"
+// request kept as its raw mailbox payload.
+struct EoeInitCmd {
+    TransitionSet transitions;
+    bool fixed = false;
+    bool disabled = false;  // EAS writes <Disabled>
+    std::string comment;
+    std::chrono::milliseconds timeout{0};
+    std::vector<std::uint8_t> data;
+    int source_line = 0;
+};
+
 struct Mailbox {
     std::string data_link_layer;  // attribute, as written
     std::optional<MailboxArea> send;  // master -> slave (SM0)
@@ -184,8 +199,12 @@ struct Mailbox {
     std::optional<std::uint32_t> status_bit_addr;
     std::optional<MailboxArea> bootstrap_send;
     std::optional<MailboxArea> bootstrap_recv;
-    std::uint16_t protocols = 0;  // MailboxProtocol bits
+    // MailboxProtocol bits: every <Protocol>, plus the protocols that have their
+    // own element (<CoE>, <EoE>, ...; Advantech lists no <Protocol> at all).
+    std::uint16_t protocols = 0;
     std::vector<CoeInitCmd> coe_init_cmds;
+    std::vector<EoeInitCmd> eoe_init_cmds;
+    std::optional<std::string> aoe_net_id;  // <AoE><NetId>, e.g. "1.1.1.1.3.234"
 };
 
 struct PreviousPort {

@@ -3,6 +3,10 @@
 // (or on an in-memory wire in tests). Frames are exactly what travels on the
 // wire without the FCS. Links are not thread-safe for concurrent receives;
 // send() may be called from another thread than receive().
+//
+// Implementations: PcapLink (a real interface, pcap_link.hpp) and MemoryLink
+// (an in-memory wire, memory_link.hpp). Link state changes are observed
+// through a LinkStateSource (link_state_source.hpp).
 
 #include <chrono>
 #include <cstddef>
@@ -17,7 +21,16 @@
 
 namespace ecpair::link {
 
-enum class LinkErrc : std::uint8_t { InterfaceNotFound, PermissionDenied, Closed, FrameTooLarge, SendFailed, ReceiveFailed, SystemError };
+enum class LinkErrc : std::uint8_t {
+    InterfaceNotFound,
+    PermissionDenied,
+    Closed,
+    FrameTooLarge,
+    SendFailed,
+    ReceiveFailed,
+    SystemError,
+    InterfaceDown,  // administratively down when opened: worth retrying once it is set up
+};
 
 struct LinkError {
     LinkErrc code;
@@ -26,10 +39,16 @@ struct LinkError {
 
 using Clock = std::chrono::steady_clock;
 
+// Names the error code ("InterfaceNotFound", ...) for logs and test output.
+const char* to_string(LinkErrc code);
+
 struct ReceivedFrame {
     std::size_t size = 0;         // bytes written into the caller's buffer
     std::size_t wire_size = 0;    // bytes on the wire (> size when truncated)
-    Clock::time_point timestamp;  // when the link saw it
+    Clock::time_point timestamp;  // steady clock, read when the link handed the frame over
+    // Wall-clock time as a capture file records it: the kernel's receive
+    // timestamp for pcap links, the send time for in-memory links.
+    std::chrono::system_clock::time_point capture_time;
 };
 
 class Link {

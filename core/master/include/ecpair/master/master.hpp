@@ -52,7 +52,8 @@ std::string_view to_string(RingState state);
 struct MasterStats {
     std::uint64_t cycles = 0;
     std::uint64_t frames_sent = 0;
-    std::uint64_t frames_lost = 0;        // no copy came back before the next cycle
+    std::uint64_t frames_lost = 0;        // not complete when the next cycle started
+    std::uint64_t late_frames = 0;        // copies that came back after their cycle was completed
     std::uint64_t cycles_incomplete = 0;  // some cyclic data of the cycle is missing
     std::uint64_t wkc_errors = 0;
     std::uint64_t foreign_frames = 0;
@@ -157,7 +158,7 @@ private:
     std::atomic<std::uint16_t> reachable_from_main_{0};
     struct AtomicStats {
         std::atomic<std::uint64_t> cycles{0}, frames_sent{0}, frames_lost{0}, cycles_incomplete{0}, wkc_errors{0},
-            foreign_frames{0}, send_errors{0};
+            foreign_frames{0}, send_errors{0}, late_frames{0};
     } stats_;
 };
 

@@ -29,6 +29,11 @@ struct VariableRef {
 
 class ProcessImage {
 public:
+    // Larger images are refused (a hostile ENI could otherwise ask for gigabytes).
+    static constexpr std::size_t kMaxBytes = 16u << 20;
+    // The bytes a section of the layout needs: ByteSize, and every variable inside.
+    static std::size_t bytes_needed(const std::optional<eni::ProcessImageSection>& section);
+
     // Sizes are at least the ENI's ByteSize and cover every variable.
     ProcessImage(std::size_t input_size, std::size_t output_size, const std::optional<eni::ProcessImage>& layout);
     // Variable refs point into the image's own copy of the layout: moving keeps

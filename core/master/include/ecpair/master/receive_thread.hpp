@@ -18,7 +18,8 @@ class ReceiveThread {
 public:
     using Handler = std::function<void(ConstBytes frame, link::Clock::time_point received_at)>;
 
-    ReceiveThread(link::Link& link, Handler handler, std::string name);
+    // realtime_priority > 0 asks for SCHED_FIFO (frames are handed over as they arrive).
+    ReceiveThread(link::Link& link, Handler handler, std::string name, int realtime_priority = 0);
     ~ReceiveThread();
     ReceiveThread(const ReceiveThread&) = delete;
     ReceiveThread& operator=(const ReceiveThread&) = delete;
@@ -33,6 +34,7 @@ private:
     link::Link& link_;
     Handler handler_;
     std::string name_;
+    int realtime_priority_;
     int stop_fd_ = -1;  // eventfd that wakes poll() for stop()
     std::atomic<bool> stop_{false};
     std::atomic<std::uint64_t> frames_{0};

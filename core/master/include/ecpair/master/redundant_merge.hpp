@@ -39,7 +39,7 @@ struct ReturnedCopy {
 struct MergeResult {
     bool complete = false;     // the merged frame equals one pass through an intact ring
     bool ring_closed = false;  // a MAIN copy came round the whole ring
-    bool ring_broken = false;  // a copy came back on the NIC that sent it
+    bool ring_broken = false;  // a copy came back on the NIC that sent it (a missing copy proves nothing)
     std::size_t size = 0;      // bytes of the merged frame in the output buffer
 };
 

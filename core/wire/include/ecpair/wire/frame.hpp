@@ -119,8 +119,10 @@ private:
 using FrameView = BasicFrameView<std::uint8_t>;
 using ConstFrameView = BasicFrameView<const std::uint8_t>;
 
-extern template class BasicFrameView<std::uint8_t>;
-extern template class BasicFrameView<const std::uint8_t>;
+extern template Expected<BasicFrameView<std::uint8_t>, DecodeError> BasicFrameView<std::uint8_t>::parse(
+    std::span<std::uint8_t>);
+extern template Expected<BasicFrameView<const std::uint8_t>, DecodeError> BasicFrameView<const std::uint8_t>::parse(
+    std::span<const std::uint8_t>);
 
 // Writes one frame into a caller-owned buffer: Ethernet header, EtherCAT
 // header, datagrams; finish() fills in the EtherCAT length, sets the M bits

@@ -15,7 +15,9 @@
 #include <string>
 #include <vector>
 
+#include "ecpair/common/bytes.hpp"
 #include "ecpair/eni/model.hpp"
+#include "ecpair/sim/mailbox.hpp"
 #include "ecpair/wire/frame.hpp"
 
 namespace ecpair::sim {
@@ -23,7 +25,8 @@ namespace ecpair::sim {
 inline constexpr int kMaxPorts = 4;
 
 // What is needed to build one ESC: identity, ports, the mailbox and process
-// data layout (for the SII image and for memory sizes).
+// data layout (for the SII image, the checks of the AL state machine and the
+// memory size).
 struct EscDescription {
     std::string name;
     std::uint32_t vendor_id = 0;
@@ -36,6 +39,9 @@ struct EscDescription {
     std::optional<eni::Mailbox> mailbox;
     eni::ProcessData process_data;
 
+    // From an ENI slave: identity, physics, mailbox and process data. The ENI's
+    // <Identification Value> becomes the alias when its Ado is 0x0012 and the
+    // explicit device ID (id_selector) otherwise.
     static EscDescription from_eni(const eni::Slave& slave);
 };
 
@@ -87,10 +93,24 @@ public:
     bool powered() const;
     void power_off();
     void power_on();  // registers to reset values, SII reloaded (alias -> 0x0012)
-    void set_eeprom_alias(std::uint16_t alias);  // rewrites SII word 4 and the CRC
-    void set_id_selector(std::uint16_t value);
+    // Rewrites SII word 4 and the CRC; 0x0012 follows at the next power-on
+    // (an ESC takes the alias over only at the first SII load).
+    void set_eeprom_alias(std::uint16_t alias);
+    void set_id_selector(std::uint16_t value);  // read at the next ID request
 
-    // ---- PDI-side view, for tests, the application and diagnostics (no side effects)
+    // ---- PDI-side mailbox (the seam for protocol servers such as CoE)
+    // Installs the application that answers mailbox requests. Without one the
+    // ESC answers like a slave stack that supports no mailbox protocol: with a
+    // mailbox error reply (see docs/ESC_EMULATION.md).
+    void set_mailbox_handler(std::unique_ptr<MailboxHandler> handler);
+    // Posts an unsolicited reply into SM1 (e.g. an emergency); false when SM1
+    // is full or the mailbox is not running.
+    bool post_mailbox_reply(ConstBytes reply);
+
+    // ---- PDI-side view, for tests, the application and diagnostics
+    // Raw memory access without ECAT semantics (no shadow, no SyncManager, no
+    // event); the range is cut at 0xFFFF. FMMU and SyncManager configuration
+    // written this way is taken over at once.
     std::vector<std::uint8_t> read_memory(std::uint16_t address, std::size_t length) const;
     void write_memory(std::uint16_t address, ConstBytes data);
     std::uint16_t station_address() const;

@@ -1,0 +1,359 @@
+// The worker of the master state machine (see the header). The worker
+// owns the runners, the SDO clients and the position shifts; the mutex
+// guards only what other threads read (target, current state, last error,
+// presence).
+
+#include "ecpair/sequencer/master_state_machine.hpp"
+
+#include <fmt/format.h>
+
+#include "ecpair/common/bytes.hpp"
+#include "ecpair/common/log.hpp"
+#include "ecpair/sequencer/dc_start_time.hpp"
+#include "ecpair/wire/al_status.hpp"
+#include "ecpair/wire/datagram.hpp"
+#include "ecpair/wire/esc_registers.hpp"
+
+namespace ecpair::sequencer {
+namespace {
+
+constexpr std::uint32_t kMasterIndex = 0xFFFF;  // TransitionFailed's "no slave"
+constexpr std::uint8_t kErrorAcknowledge = 0x10;
+
+std::string transition_name(eni::Transition t) {
+    return fmt::format("{} ({} -> {})", eni::to_string(t), eni::to_string(eni::from_state(t)),
+                       eni::to_string(eni::to_state(t)));
+}
+
+std::optional<SequenceFailure> quiet_failure(std::optional<bus::BusErrc> code) {
+    if (code == bus::BusErrc::MasterRedStateInactive) return SequenceFailure::MasterInactive;
+    if (code == bus::BusErrc::Cancelled) return SequenceFailure::Cancelled;
+    return std::nullopt;
+}
+
+bool is_quiet(SequenceFailure f) {
+    return f == SequenceFailure::MasterInactive || f == SequenceFailure::Cancelled || f == SequenceFailure::Stopped;
+}
+
+}  // namespace
+
+std::string_view to_string(SequenceFailure failure) {
+    switch (failure) {
+        case SequenceFailure::BusMismatch: return "bus mismatch";
+        case SequenceFailure::ScanFailed: return "scan failed";
+        case SequenceFailure::InitCmd: return "InitCmd failed";
+        case SequenceFailure::CoeInitCmd: return "CoE InitCmd failed";
+        case SequenceFailure::CyclicStateNotApplied: return "cyclic state not applied";
+        case SequenceFailure::MasterInactive: return "master is INACTIVE";
+        case SequenceFailure::Cancelled: return "cancelled";
+        case SequenceFailure::Stopped: return "stopped";
+    }
+    return "?";
+}
+
+MasterStateMachine::MasterStateMachine(std::shared_ptr<const eni::EniConfig> eni, bus::BusAccess& bus,
+                                       StateMachineHooks hooks, master::EventQueue* events, Clock& clock,
+                                       StateMachineOptions options)
+    : eni_(std::move(eni)),
+      bus_(bus),
+      hooks_(std::move(hooks)),
+      events_(events),
+      clock_(clock),
+      options_(options),
+      init_cmds_(bus, clock, options.init_cmds),
+      position_shift_(eni_->slaves.size(), 0),
+      present_(eni_->slaves.size(), true),
+      thread_([this](std::stop_token stop) { worker(stop); }) {}
+
+MasterStateMachine::~MasterStateMachine() {
+    thread_.request_stop();
+    changed_.notify_all();
+}
+
+void MasterStateMachine::request(MasterState target) {
+    {
+        std::lock_guard lock(mutex_);
+        target_ = target;
+        pending_ = true;
+    }
+    logger("sequencer")->info("master state {} requested", to_string(target));
+    changed_.notify_all();
+}
+
+MasterState MasterStateMachine::target() const {
+    std::lock_guard lock(mutex_);
+    return target_;
+}
+
+MasterState MasterStateMachine::current() const {
+    std::lock_guard lock(mutex_);
+    return current_;
+}
+
+bool MasterStateMachine::busy() const {
+    std::lock_guard lock(mutex_);
+    return pending_ || running_;
+}
+
+std::optional<SequenceError> MasterStateMachine::last_error() const {
+    std::lock_guard lock(mutex_);
+    return last_error_;
+}
+
+std::vector<bool> MasterStateMachine::presence() const {
+    std::lock_guard lock(mutex_);
+    return present_;
+}
+
+bool MasterStateMachine::wait_idle(std::chrono::milliseconds timeout) const {
+    std::unique_lock lock(mutex_);
+    return changed_.wait_for(lock, timeout, [this] { return !pending_ && !running_; });
+}
+
+void MasterStateMachine::worker(std::stop_token stop) {
+    std::unique_lock lock(mutex_);
+    for (;;) {
+        changed_.wait(lock, stop, [this] { return pending_; });
+        if (stop.stop_requested()) return;
+        running_ = true;
+        last_error_.reset();
+        std::optional<SequenceError> error;
+        MasterState target{};
+        for (;;) {
+            // Re-read the target at every state boundary: a new request redirects the sequence.
+            target = target_;
+            pending_ = false;
+            const auto transition = next_transition(current_, target, *eni_);
+            if (!transition) break;
+            lock.unlock();
+            error = run_transition(*transition, stop);
+            lock.lock();
+            if (error) break;
+            current_ = *transition_target(*transition);
+        }
+        lock.unlock();
+        finish(target, std::move(error));
+        lock.lock();
+    }
+}
+
+void MasterStateMachine::finish(MasterState target, std::optional<SequenceError> error) {
+    SequenceResult result;
+    result.target = target;
+    result.error = error;
+    {
+        std::lock_guard lock(mutex_);
+        result.reached = current_;
+        last_error_ = std::move(error);
+        running_ = false;
+    }
+    changed_.notify_all();
+    if (result.error && result.error->failure == SequenceFailure::Stopped) return;
+    if (!result.error) logger("sequencer")->info("master state {} reached", to_string(result.reached));
+    if (hooks_.on_done) hooks_.on_done(result);
+}
+
+std::optional<SequenceError> MasterStateMachine::run_transition(eni::Transition t, std::stop_token stop) {
+    const auto from = *transition_source(t);
+    const auto to = *transition_target(t);
+    auto log = logger("sequencer");
+    log->info("transition {} started", transition_name(t));
+    const auto started = clock_.now();
+
+    auto error = [&]() -> std::optional<SequenceError> {
+        if (t == eni::Transition::IP) {
+            if (auto e = startup_scan(stop)) return e;
+        }
+        const bool going_down = static_cast<int>(to) < static_cast<int>(from);
+        if (going_down) {
+            if (auto e = apply_cyclic_state(to, t, stop)) return e;
+        }
+        const auto plan = plan_transition(*eni_, t, presence());
+        CommandContext master_context;
+        for (const auto& cmd : plan.master_before) {
+            if (auto r = init_cmds_.run(cmd, master_context, stop); !r) return from_init_cmd(r.error(), t);
+        }
+        for (const auto& slave : plan.slaves) {
+            if (auto e = run_slave(slave, t, stop)) return e;
+        }
+        for (const auto& cmd : plan.master_after) {
+            if (auto r = init_cmds_.run(cmd, master_context, stop); !r) return from_init_cmd(r.error(), t);
+        }
+        if (!going_down) {
+            if (auto e = apply_cyclic_state(to, t, stop)) return e;
+        }
+        return std::nullopt;
+    }();
+
+    const auto elapsed = std::chrono::duration_cast<std::chrono::milliseconds>(clock_.now() - started).count();
+    if (!error) {
+        log->info("transition {} done in {} ms", transition_name(t), elapsed);
+        return std::nullopt;
+    }
+    if (is_quiet(error->failure)) {
+        log->warn("transition {} stopped after {} ms: {}", transition_name(t), elapsed, error->message);
+    } else {
+        log->error("transition {} failed after {} ms: {}", transition_name(t), elapsed, error->message);
+        raise(master::EventKind::TransitionFailed, static_cast<std::uint32_t>(eni::from_state(t)),
+              static_cast<std::uint32_t>(eni::to_state(t)),
+              error->slave_index ? static_cast<std::uint32_t>(*error->slave_index) : kMasterIndex);
+    }
+    return error;
+}
+
+std::optional<SequenceError> MasterStateMachine::startup_scan(std::stop_token stop) {
+    auto outcome = StartupScan(bus_, clock_).run(*eni_, stop);
+    if (!outcome) {
+        const auto quiet = quiet_failure(outcome.error().code);
+        return SequenceError{quiet.value_or(SequenceFailure::ScanFailed), MasterState::Init, MasterState::Preop,
+                             std::nullopt, "startup scan: " + outcome.error().message};
+    }
+    raise(master::EventKind::BusScanStatus, outcome->report.responding,
+          static_cast<std::uint32_t>(eni_->slaves.size()), outcome->matches ? 1 : 0);
+    for (const auto& c : outcome->comparisons) {
+        if (c.configured_index) {
+            const bool found = c.match != bus::SlaveMatch::Missing && c.match != bus::SlaveMatch::Absent;
+            raise(master::EventKind::SlavePresence, static_cast<std::uint32_t>(*c.configured_index), found ? 1 : 0);
+        }
+        if (c.is_mismatch()) raise(master::EventKind::BusMismatch, c.position, static_cast<std::uint32_t>(c.match));
+    }
+    {
+        std::lock_guard lock(mutex_);
+        present_ = outcome->present;
+    }
+    position_shift_ = outcome->position_shift;
+    if (outcome->matches) return std::nullopt;
+
+    const auto mismatches = outcome->mismatches();
+    std::string message = "bus mismatch: " + mismatches.front()->describe();
+    if (mismatches.size() > 1) message += fmt::format(" (and {} more)", mismatches.size() - 1);
+    return SequenceError{SequenceFailure::BusMismatch, MasterState::Init, MasterState::Preop,
+                         mismatches.front()->configured_index, std::move(message)};
+}
+
+std::optional<SequenceError> MasterStateMachine::run_slave(const SlavePlan& plan, eni::Transition t,
+                                                           std::stop_token stop) {
+    acknowledge_error(plan.slave_index, t);
+    const auto context = context_for(plan.slave_index);
+    if (plan.synthesized) {
+        logger("sequencer")->debug("{}: no ESC InitCmds in the ENI, running made-up ones", context.describe());
+    }
+    for (const auto& step : plan.steps) {
+        if (const auto* cmd = std::get_if<eni::EcatCmd>(&step)) {
+            if (auto r = init_cmds_.run(*cmd, context, stop); !r) return from_init_cmd(r.error(), t);
+            continue;
+        }
+        const auto& coe = std::get<eni::CoeInitCmd>(step);
+        auto* sdo = sdo_client(plan.slave_index);
+        if (!sdo) {
+            return SequenceError{SequenceFailure::CoeInitCmd, *transition_source(t), *transition_target(t),
+                                 plan.slave_index,
+                                 fmt::format("transition {}: {}, ENI line {}: CoE InitCmd but no mailbox configured",
+                                             eni::to_string(t), context.describe(), coe.source_line)};
+        }
+        if (auto r = coe_init_cmds_.run(*sdo, coe, context.describe(), stop); !r) {
+            const auto& sdo_error = r.error().sdo;
+            auto failure = quiet_failure(sdo_error.bus_error).value_or(SequenceFailure::CoeInitCmd);
+            if (sdo_error.failure == SdoFailure::Stopped) failure = SequenceFailure::Stopped;
+            return SequenceError{failure, *transition_source(t), *transition_target(t), plan.slave_index,
+                                 fmt::format("transition {}: {}", eni::to_string(t), r.error().describe())};
+        }
+    }
+    return std::nullopt;
+}
+
+void MasterStateMachine::acknowledge_error(std::size_t slave_index, eni::Transition t) {
+    const auto& slave = eni_->slaves[slave_index];
+    // Before IP the station address may not be set yet (masters clear it): address by position then.
+    const auto address =
+        t == eni::Transition::IP
+            ? bus::SlaveAddress::position(static_cast<std::uint16_t>(slave.info.ring_position - position_shift_[slave_index]))
+            : bus::SlaveAddress::station(slave.info.phys_addr);
+    auto status = bus::read_register(bus_, address, wire::reg::kAlStatus, 6);
+    if (!status || status->wkc != 1 || status->data.size() < 6) return;
+    const wire::AlStatus al{status->data[0]};
+    if (!al.error()) return;
+    const auto code = load_le<std::uint16_t>(status->data, 4);
+    logger("sequencer")->warn("slave '{}' (station {}) is in {} with AL status code 0x{:04x} ({}): acknowledging",
+                              slave.info.name, slave.info.phys_addr, al.to_string(), code,
+                              wire::al_status_code_text(code));
+    raise(master::EventKind::SlaveStateError, static_cast<std::uint32_t>(slave_index), al.raw, code);
+    (void)bus::write_register(bus_, address, wire::reg::kAlControl,
+                              {static_cast<std::uint8_t>(al.state() | kErrorAcknowledge), 0});
+}
+
+std::optional<SequenceError> MasterStateMachine::apply_cyclic_state(MasterState state, eni::Transition t,
+                                                                    std::stop_token stop) {
+    if (!hooks_.request_cyclic_state) return std::nullopt;
+    const auto wanted = to_slave_state(state);
+    hooks_.request_cyclic_state(wanted);
+    if (!hooks_.cyclic_state) return std::nullopt;
+    const auto deadline = clock_.now() + options_.cyclic_state_timeout;
+    while (hooks_.cyclic_state() != wanted) {
+        if (stop.stop_requested()) {
+            return SequenceError{SequenceFailure::Stopped, *transition_source(t), *transition_target(t), std::nullopt,
+                                 "stopped"};
+        }
+        if (clock_.now() >= deadline) {
+            return SequenceError{SequenceFailure::CyclicStateNotApplied, *transition_source(t), *transition_target(t),
+                                 std::nullopt,
+                                 fmt::format("transition {}: the cyclic master did not apply {} within {} ms",
+                                             eni::to_string(t), to_string(state),
+                                             options_.cyclic_state_timeout.count())};
+        }
+        clock_.sleep_for(kPollInterval, stop);
+    }
+    return std::nullopt;
+}
+
+CommandContext MasterStateMachine::context_for(std::size_t slave_index) const {
+    const auto& slave = eni_->slaves[slave_index];
+    CommandContext context;
+    context.owner = slave.info.name;
+    context.station = slave.info.phys_addr;
+    context.slave_index = slave_index;
+    context.position_shift = position_shift_[slave_index];
+    if (const auto reference = reference_clock_index(*eni_, presence())) {
+        DcStartTimeParameters dc{bus::SlaveAddress::station(eni_->slaves[*reference].info.phys_addr), 0, 0};
+        if (slave.dc) {
+            dc.cycle_time_ns = slave.dc->cycle_time0_ns.value_or(0);
+            dc.shift_time_ns = slave.dc->shift_time_ns.value_or(0);
+        }
+        if (dc.cycle_time_ns == 0 && !eni_->cyclic.empty() && eni_->cyclic.front().cycle_time_us) {
+            dc.cycle_time_ns = *eni_->cyclic.front().cycle_time_us * 1000u;
+        }
+        context.dc = dc;
+    }
+    return context;
+}
+
+SdoClient* MasterStateMachine::sdo_client(std::size_t slave_index) {
+    auto found = sdo_clients_.find(slave_index);
+    if (found != sdo_clients_.end()) return found->second.get();
+    const auto channel = mailbox_channel_of(eni_->slaves[slave_index]);
+    if (!channel) return nullptr;
+    auto client = std::make_unique<SdoClient>(bus_, clock_, *channel);
+    auto* raw = client.get();
+    sdo_clients_.emplace(slave_index, std::move(client));
+    return raw;
+}
+
+SequenceError MasterStateMachine::from_init_cmd(const InitCmdError& error, eni::Transition t) const {
+    auto failure = quiet_failure(error.bus_error).value_or(SequenceFailure::InitCmd);
+    if (error.failure == InitCmdFailure::Stopped) failure = SequenceFailure::Stopped;
+    return SequenceError{failure, *transition_source(t), *transition_target(t), error.slave_index,
+                         fmt::format("transition {}: {}", eni::to_string(t), error.describe())};
+}
+
+void MasterStateMachine::raise(master::EventKind kind, std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+    if (!events_) return;
+    master::Event event;
+    event.kind = kind;
+    event.time = std::chrono::system_clock::now();
+    event.a = a;
+    event.b = b;
+    event.c = c;
+    events_->push(event);
+}
+
+}  // namespace ecpair::sequencer

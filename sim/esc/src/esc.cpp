@@ -1,0 +1,344 @@
+// The ESC facade: one frame through the processing unit, then the end of the
+// frame, then the PDI side.
+//
+//  process():  powered off -> the frame dies. Port 0 closed under Auto or
+//              Auto-close -> circulating-frame rule (C=1 on the first
+//              datagram: destroy and count 0x030C; else set C on every
+//              datagram). The system time copy is taken, every datagram goes
+//              through the DatagramProcessor, and with the forwarding rule on
+//              the source MAC gets its locally administered bit.
+//  end of frame: staged register writes are committed and their owners react
+//              (DL control -> ports, error counters, SII commands, FMMU and
+//              SyncManager configuration, DC latch/compare).
+//  PDI side:   when the SII configuration is loaded, the slave stack runs the
+//              AL state machine (SyncManager changes first, then AL control),
+//              enables/deactivates SyncManagers for the new state, serves the
+//              mailbox and runs the application. Finally DL status is
+//              recomputed (raising its ECAT event when it changed).
+
+#include "ecpair/sim/esc.hpp"
+
+#include <algorithm>
+#include <optional>
+
+#include <fmt/format.h>
+
+#include "al_state_machine.hpp"
+#include "datagram_processor.hpp"
+#include "dc_registers.hpp"
+#include "dl_registers.hpp"
+#include "ecpair/common/log.hpp"
+#include "ecpair/wire/esc_registers.hpp"
+#include "error_counters.hpp"
+#include "esc_layout.hpp"
+#include "esc_memory.hpp"
+#include "fmmu.hpp"
+#include "mailbox_service.hpp"
+#include "physical_access.hpp"
+#include "port_logic.hpp"
+#include "register_map.hpp"
+#include "sii_eeprom.hpp"
+#include "sii_image.hpp"
+#include "slave_application.hpp"
+#include "slave_stack_checks.hpp"
+#include "sync_manager.hpp"
+
+namespace ecpair::sim {
+namespace {
+
+namespace reg = wire::reg;
+
+constexpr std::uint64_t kTemporaryLoopNs = 1'000'000'000;  // "about one second"
+constexpr std::uint8_t kTemporaryLoop = 0x02;
+
+bool valid_port(int port) { return port >= 0 && port < kMaxPorts; }
+
+std::size_t largest_slave_mailbox(const EscLayout& layout) {
+    std::size_t largest = 0;
+    for (const auto& areas : {layout.mailbox, layout.bootstrap}) {
+        if (areas) largest = std::max<std::size_t>(largest, areas->in.length);
+    }
+    return largest;
+}
+
+}  // namespace
+
+struct Esc::Impl {
+    explicit Impl(EscDescription d)
+        : description(std::move(d)),
+          layout(EscLayout::of(description)),
+          log(logger("esc")),
+          owner(fmt::format("slave {:?}", description.name)),
+          sync_managers(memory),
+          physical(memory, sync_managers),
+          datagrams(memory, physical, fmmus),
+          eeprom(build_sii_image(description, layout)),
+          ports(layout.port_count, log, owner),
+          dc(memory),
+          al(memory, log, owner),
+          checks(layout, sync_managers, memory),
+          mailbox(memory, sync_managers, largest_slave_mailbox(layout)),
+          application(memory, sync_managers, layout) {
+        checks.set_id_selector(description.id_selector);
+        power_on();
+    }
+
+    // The layout points into `description`, so neither may move: Impl lives
+    // behind a unique_ptr and is never copied.
+    Impl(const Impl&) = delete;
+    Impl& operator=(const Impl&) = delete;
+
+    EpuVerdict process(wire::FrameView& frame, const FrameContext& context);
+    void end_of_frame(const FrameContext& context);
+    void run_slave_stack(bool al_control_written, bool sm_activation_changed);
+    void on_dl_control_written(const FrameContext& context, std::uint8_t loop_before);
+    void expire_temporary_loop(std::uint64_t now_ns);
+    void apply_state(AlState state);
+    void update_dl_status();
+    void power_on();
+    std::optional<int> entry_port(std::uint64_t frame_seq) const;
+    bool forwarding_rule() const { return DlControl::decode(memory.load<std::uint32_t>(reg::kDlControl)).forwarding_rule; }
+
+    const EscDescription description;
+    const EscLayout layout;
+    std::shared_ptr<spdlog::logger> log;
+    std::string owner;
+    EscMemory memory;
+    SyncManagerUnit sync_managers;
+    FmmuUnit fmmus;
+    PhysicalAccess physical;
+    DatagramProcessor datagrams;
+    SiiEeprom eeprom;
+    PortLogic ports;
+    DcUnit dc;
+    AlStateMachine al;
+    SlaveStackChecks checks;
+    MailboxService mailbox;
+    SlaveApplication application;
+
+    bool powered = false;
+    std::array<std::optional<std::uint64_t>, kMaxPorts> arrival_seq{};
+    std::optional<std::uint64_t> temporary_loop_until_ns;
+    std::uint8_t permanent_loop_byte = 0;
+};
+
+EpuVerdict Esc::Impl::process(wire::FrameView& frame, const FrameContext& context) {
+    if (!powered) return EpuVerdict::Destroy;
+    expire_temporary_loop(context.time_ns);
+    if (ports.circulating_frame_check()) {
+        if ((*frame.begin()).circulating()) {
+            error_counters::count_processing_unit_error(memory);
+            log->debug("{}: circulating frame {} destroyed", owner, context.frame_seq);
+            return EpuVerdict::Destroy;
+        }
+        for (auto datagram : frame) datagram.set_circulating(true);
+    }
+    dc.start_of_frame(context.time_ns);
+    for (auto datagram : frame) datagrams.process(datagram);
+    if (forwarding_rule()) {
+        wire::MacAddress source = frame.ethernet().source;
+        source.bytes[0] = static_cast<std::uint8_t>(source.bytes[0] | 0x02);
+        frame.set_source(source);
+    }
+    end_of_frame(context);
+    return EpuVerdict::Forward;
+}
+
+void Esc::Impl::end_of_frame(const FrameContext& context) {
+    bool al_control_written = false;
+    std::uint8_t activation_changed = 0;
+    if (memory.has_staged()) {
+        eeprom.filter_staged(memory);
+        const std::uint8_t loop_before = memory.u8(reg::kDlControlLoop);
+        memory.commit_staged();
+        if (memory.staged_any(reg::kDlControl, reg::kDlControl + 4)) on_dl_control_written(context, loop_before);
+        al_control_written = memory.staged_any(reg::kAlControl, reg::kAlControl + 2);
+        error_counters::apply_clearing_writes(memory);
+        if (memory.staged_any(reg::kSiiConfig, reg::kSiiData + 8)) {
+            physical.set_process_ram_available(eeprom.on_ecat_write(memory));
+        }
+        if (memory.staged_any(reg::kFmmuBase, reg::kSmBase)) fmmus.refresh(memory);
+        if (memory.staged_any(reg::kSmBase, reg::kDcReceiveTimes)) activation_changed = sync_managers.refresh();
+        if (memory.staged_any(reg::kDcReceiveTimes, reg::kDcReceiveTimes + 4)) {
+            dc.latch_receive_times(context.frame_seq, context.time_ns);
+        }
+        if (memory.staged_any(reg::kDcSystemTime, reg::kDcReceiveTimeEcu)) dc.system_time_written(context.time_ns);
+        memory.clear_staged();
+    }
+    run_slave_stack(al_control_written, activation_changed != 0);
+    update_dl_status();
+}
+
+void Esc::Impl::run_slave_stack(bool al_control_written, bool sm_activation_changed) {
+    if (!eeprom.loaded()) return;  // the PDI is not operational
+    bool state_changed = false;
+    if (sm_activation_changed) state_changed = al.on_sm_activation_changed(checks) || state_changed;
+    if (al_control_written) state_changed = al.on_control_written(checks) || state_changed;
+    if (state_changed) apply_state(al.state());
+    mailbox.after_frame();
+    application.after_frame(al.state());
+}
+
+// What the slave stack does with its SyncManagers in each state, as SOES:
+// mailbox SMs run from PREOP (and in BOOT), process data SMs in SAFEOP/OP;
+// the others are deactivated from the PDI side.
+void Esc::Impl::apply_state(AlState state) {
+    const bool mailbox_on = state != AlState::Init;
+    const bool process_data_on = state == AlState::Safeop || state == AlState::Op;
+    for (int n = 0; n < EscLayout::kSmCount; ++n) {
+        switch (layout.sms[static_cast<std::size_t>(n)].role) {
+            case SmRole::MailboxOut:
+            case SmRole::MailboxIn: sync_managers.set_pdi_deactivated(n, !mailbox_on); break;
+            case SmRole::Outputs:
+            case SmRole::Inputs: sync_managers.set_pdi_deactivated(n, !process_data_on); break;
+            case SmRole::Unused: break;
+        }
+    }
+    mailbox.set_running(mailbox_on && layout.has_mailbox());
+}
+
+void Esc::Impl::on_dl_control_written(const FrameContext& context, std::uint8_t loop_before) {
+    if (!memory.staged_any(reg::kDlControlLoop, reg::kDlControlLoop + 1)) return;
+    const DlControl control = DlControl::decode(memory.load<std::uint32_t>(reg::kDlControl));
+    if (control.temporary) {
+        if (!temporary_loop_until_ns) permanent_loop_byte = loop_before;
+        temporary_loop_until_ns = context.time_ns + kTemporaryLoopNs;
+    } else {
+        temporary_loop_until_ns.reset();
+    }
+    ports.set_loop_settings(control.loop, entry_port(context.frame_seq).value_or(0));
+}
+
+void Esc::Impl::expire_temporary_loop(std::uint64_t now_ns) {
+    if (!temporary_loop_until_ns || now_ns < *temporary_loop_until_ns) return;
+    temporary_loop_until_ns.reset();
+    memory.set_u8(reg::kDlControlLoop, permanent_loop_byte);
+    memory.set_u8(regs::kDlControlFlags, static_cast<std::uint8_t>(memory.u8(regs::kDlControlFlags) & ~kTemporaryLoop));
+    log->info("{}: temporary loop settings expired", owner);
+    ports.set_loop_settings(DlControl::decode_loop(permanent_loop_byte), std::nullopt);
+    update_dl_status();
+}
+
+std::optional<int> Esc::Impl::entry_port(std::uint64_t frame_seq) const {
+    for (int p = 0; p < kMaxPorts; ++p) {
+        if (arrival_seq[static_cast<std::size_t>(p)] == frame_seq) return p;
+    }
+    return std::nullopt;
+}
+
+void Esc::Impl::update_dl_status() {
+    const std::uint16_t status = dl_status(ports, eeprom.loaded());
+    if (status == memory.load<std::uint16_t>(reg::kDlStatus)) return;
+    memory.store<std::uint16_t>(reg::kDlStatus, status);
+    const auto request = memory.load<std::uint16_t>(reg::kEcatEventRequest);
+    memory.store<std::uint16_t>(reg::kEcatEventRequest, static_cast<std::uint16_t>(request | regs::kEventDlStatus));
+}
+
+void Esc::Impl::power_on() {
+    powered = true;
+    memory.clear();
+    regs::write_reset_values(memory.bytes(),
+                             regs::EscHardware{static_cast<std::uint8_t>(layout.ram_bytes / 1024), layout.port_descriptor()});
+    memory.set_ram_bytes(layout.ram_bytes);
+    sync_managers.reset();
+    fmmus.reset();
+    dc.reset();
+    const bool loaded = eeprom.power_on(memory);
+    physical.set_process_ram_available(loaded);
+    ports.reset();
+    al.reset();
+    apply_state(AlState::Init);
+    application.reset();
+    arrival_seq = {};
+    temporary_loop_until_ns.reset();
+    update_dl_status();
+    if (loaded) {
+        log->info("{}: power on", owner);
+    } else {
+        log->warn("{}: power on, SII configuration checksum wrong: not loaded, PDI not operational", owner);
+    }
+}
+
+// ------------------------------------------------------------------ Esc
+
+Esc::Esc(EscDescription description) : impl_(std::make_unique<Impl>(std::move(description))) {}
+Esc::~Esc() = default;
+Esc::Esc(Esc&&) noexcept = default;
+Esc& Esc::operator=(Esc&&) noexcept = default;
+
+const EscDescription& Esc::description() const { return impl_->description; }
+
+EpuVerdict Esc::process(wire::FrameView& frame, const FrameContext& context) { return impl_->process(frame, context); }
+
+EpuVerdict Esc::process_non_ethercat() const {
+    if (!impl_->powered) return EpuVerdict::Destroy;
+    return impl_->forwarding_rule() ? EpuVerdict::Destroy : EpuVerdict::Forward;
+}
+
+int Esc::port_count() const { return impl_->layout.port_count; }
+bool Esc::port_implemented(int port) const { return impl_->ports.implemented(port); }
+bool Esc::port_open(int port) const { return impl_->powered && impl_->ports.open(port); }
+
+LoopSetting Esc::loop_setting(int port) const {
+    return valid_port(port) ? impl_->ports.setting(port) : LoopSetting::Closed;
+}
+
+void Esc::set_physical_link(int port, bool up) {
+    const bool lost = impl_->ports.set_link(port, up);
+    if (!impl_->powered) return;
+    if (lost) error_counters::count_lost_link(impl_->memory, port);
+    impl_->update_dl_status();
+}
+
+bool Esc::physical_link(int port) const { return impl_->ports.implemented(port) && impl_->ports.link(port); }
+
+void Esc::frame_arrived_at_port(int port, std::uint64_t time_ns, std::uint64_t frame_seq) {
+    if (!impl_->powered || !valid_port(port)) return;
+    impl_->arrival_seq[static_cast<std::size_t>(port)] = frame_seq;
+    impl_->dc.port_arrival(port, time_ns, frame_seq);
+    impl_->ports.frame_received(port);
+    impl_->update_dl_status();
+}
+
+bool Esc::powered() const { return impl_->powered; }
+
+void Esc::power_off() {
+    if (!impl_->powered) return;
+    impl_->powered = false;
+    impl_->mailbox.set_running(false);
+    impl_->log->info("{}: power off", impl_->owner);
+}
+
+void Esc::power_on() { impl_->power_on(); }
+
+void Esc::set_eeprom_alias(std::uint16_t alias) { impl_->eeprom.set_alias(alias); }
+
+void Esc::set_id_selector(std::uint16_t value) { impl_->checks.set_id_selector(value); }
+
+void Esc::set_mailbox_handler(std::unique_ptr<MailboxHandler> handler) { impl_->mailbox.set_handler(std::move(handler)); }
+
+bool Esc::post_mailbox_reply(ConstBytes reply) { return impl_->mailbox.post(reply); }
+
+std::vector<std::uint8_t> Esc::read_memory(std::uint16_t address, std::size_t length) const {
+    const auto bytes = impl_->memory.bytes();
+    const std::size_t available = std::min<std::size_t>(length, bytes.size() - address);
+    return {bytes.begin() + address, bytes.begin() + static_cast<std::ptrdiff_t>(address + available)};
+}
+
+void Esc::write_memory(std::uint16_t address, ConstBytes data) {
+    Bytes bytes = impl_->memory.bytes();
+    const std::size_t available = std::min<std::size_t>(data.size(), bytes.size() - address);
+    std::copy_n(data.begin(), available, bytes.begin() + address);
+    // Keep the decoded FMMU/SyncManager configuration in step with the registers.
+    const std::size_t end = address + available;
+    if (address < reg::kSmBase && end > reg::kFmmuBase) impl_->fmmus.refresh(impl_->memory);
+    if (address < reg::kDcReceiveTimes && end > reg::kSmBase) impl_->sync_managers.refresh();
+}
+
+std::uint16_t Esc::station_address() const { return impl_->memory.load<std::uint16_t>(reg::kStationAddress); }
+std::uint16_t Esc::station_alias() const { return impl_->memory.load<std::uint16_t>(reg::kStationAlias); }
+std::uint8_t Esc::al_status() const { return impl_->memory.u8(reg::kAlStatus); }
+std::uint16_t Esc::al_status_code() const { return impl_->memory.load<std::uint16_t>(reg::kAlStatusCode); }
+const std::vector<std::uint8_t>& Esc::sii_image() const { return impl_->eeprom.image(); }
+
+}  // namespace ecpair::sim

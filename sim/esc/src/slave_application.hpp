@@ -1,0 +1,42 @@
+#pragma once
+// A small application on the PDI side so that process data visibly flows.
+// After every frame the ESC processed, in SAFEOP and OP:
+//
+//   inputs[0..1]  a free-running 16-bit counter (little-endian), +1 per frame
+//   inputs[2..]   OP: a copy of the outputs, as far as both fit;
+//                 SAFEOP: zeros (outputs are not applied in SAFEOP)
+//
+// An input SyncManager of less than 2 bytes gets the mirrored outputs only.
+// "Outputs" and "inputs" are the buffers of the first Outputs and Inputs
+// SyncManagers of the description (SM2/SM3 when it names none), as the
+// master configured them; a SyncManager that is disabled, deactivated or
+// outside the process RAM is left alone. The counter restarts at 0 on
+// power-on, so a given frame sequence always gives the same inputs.
+
+#include <cstdint>
+
+#include "al_state_machine.hpp"
+#include "esc_layout.hpp"
+#include "esc_memory.hpp"
+#include "sync_manager.hpp"
+
+namespace ecpair::sim {
+
+class SlaveApplication {
+public:
+    SlaveApplication(EscMemory& memory, const SyncManagerUnit& sync_managers, const EscLayout& layout);
+
+    void reset() { counter_ = 0; }
+    void after_frame(AlState state);
+
+private:
+    bool usable(const SmChannel& channel, bool ecat_writes) const;
+
+    EscMemory& memory_;
+    const SyncManagerUnit& sync_managers_;
+    int output_sm_;
+    int input_sm_;
+    std::uint16_t counter_ = 0;
+};
+
+}  // namespace ecpair::sim

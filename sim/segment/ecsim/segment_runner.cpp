@@ -1,0 +1,170 @@
+// The poll() loop of ecsim. Each round rebuilds the pollfd list (into a
+// vector whose capacity is kept, so nothing is allocated once the control
+// clients are stable), waits, then serves what is ready: the stop fd first,
+// then frames, link changes and control requests. Frames go through the
+// segment one at a time in one reusable buffer: receive, record, carry,
+// send out of the exit side, record.
+
+#include "segment_runner.hpp"
+
+#include <poll.h>
+
+#include <array>
+#include <cerrno>
+#include <cstring>
+#include <system_error>
+
+#include "ecpair/common/log.hpp"
+#include "ecpair/sim/control_commands.hpp"
+#include "ecpair/wire/constants.hpp"
+
+namespace ecpair::ecsim {
+
+namespace {
+
+constexpr std::chrono::seconds kPcapFlushInterval{1};
+// Frames served from one side before the loop looks at the other fds again.
+constexpr int kFramesPerWakeup = 64;
+
+spdlog::logger& runner_log() {
+    static const auto logger = ecpair::logger("ecsim");
+    return *logger;
+}
+
+std::uint64_t nanoseconds(link::Clock::time_point time) {
+    return static_cast<std::uint64_t>(
+        std::chrono::duration_cast<std::chrono::nanoseconds>(time.time_since_epoch()).count());
+}
+
+}  // namespace
+
+Expected<std::unique_ptr<SegmentRunner>, std::string> SegmentRunner::create(RunnerSetup setup) {
+    std::unique_ptr<SegmentRunner> runner(new SegmentRunner(std::move(setup)));
+    SegmentRunner* self = runner.get();
+    auto control = ControlServer::listen(self->setup_.control_path, [self](std::string_view line) {
+        return sim::handle_control_line(self->setup_.segment, line);
+    });
+    if (!control) return unexpected(control.error().message);
+    runner->control_ = std::move(control).value();
+    return runner;
+}
+
+SegmentRunner::SegmentRunner(RunnerSetup setup) : setup_(std::move(setup)) {}
+
+SegmentRunner::~SegmentRunner() {
+    if (setup_.pcap) setup_.pcap->flush();
+}
+
+link::Link* SegmentRunner::link_of(sim::Side side) const {
+    return side == sim::Side::Main ? setup_.main_link.get() : setup_.red_link.get();
+}
+
+void SegmentRunner::sync_side_links() {
+    for (const sim::Side side : {sim::Side::Main, sim::Side::Red}) {
+        const link::Link* link = link_of(side);
+        setup_.segment.set_side_link(side, link != nullptr && link->link_up());
+    }
+}
+
+void SegmentRunner::apply_link_changes(link::LinkStateSource& source) {
+    for (const auto& change : source.read_changes()) {
+        for (const sim::Side side : {sim::Side::Main, sim::Side::Red}) {
+            const link::Link* link = link_of(side);
+            if (link != nullptr && link->name() == change.interface) setup_.segment.set_side_link(side, change.up);
+        }
+    }
+}
+
+bool SegmentRunner::serve_side(sim::Side side) {
+    link::Link& in = *link_of(side);
+    std::array<std::uint8_t, wire::kMaxFrameSizeVlan> buffer{};
+    for (int served = 0; served < kFramesPerWakeup; ++served) {
+        auto received = in.try_receive(buffer);
+        if (!received) {
+            runner_log().error("{}: {}", in.name(), received.error().message);
+            return false;
+        }
+        if (!*received) return true;
+        const link::ReceivedFrame& frame = **received;
+        if (frame.wire_size > frame.size) {
+            ++truncated_frames_;
+            runner_log().warn("{}: a {}-byte frame does not fit the {}-byte buffer; dropped ({} so far)", in.name(),
+                              frame.wire_size, buffer.size(), truncated_frames_);
+            continue;
+        }
+        if (setup_.pcap) setup_.pcap->record(std::span(buffer).first(frame.size), frame.capture_time);
+
+        std::size_t size = frame.size;
+        const auto exit = setup_.segment.carry(side, buffer, size, nanoseconds(frame.timestamp));
+        if (!exit) continue;
+        link::Link* out = link_of(*exit);
+        if (out == nullptr) continue;  // the segment never lets a frame out of a side without a link
+        const auto outgoing = std::span<const std::uint8_t>(buffer).first(size);
+        if (auto sent = out->send(outgoing); !sent) {
+            ++send_failures_;
+            runner_log().warn("{}: {} ({} send failures so far)", out->name(), sent.error().message, send_failures_);
+            continue;
+        }
+        if (setup_.pcap) setup_.pcap->record(outgoing, std::chrono::system_clock::now());
+    }
+    return true;
+}
+
+int SegmentRunner::flush_timeout_ms() const {
+    if (!setup_.pcap || !setup_.pcap->has_unflushed()) return -1;
+    const auto left =
+        std::chrono::duration_cast<std::chrono::milliseconds>(next_flush_ - std::chrono::steady_clock::now());
+    return left.count() < 0 ? 0 : static_cast<int>(left.count());
+}
+
+int SegmentRunner::run() {
+    const int status = serve();
+    if (setup_.pcap) setup_.pcap->flush();
+    return status;
+}
+
+int SegmentRunner::serve() {
+    sync_side_links();
+    runner_log().info("ecsim ready: {} slaves, MAIN on {}, RED on {}, control socket {}{}",
+                      setup_.segment.slave_count(), setup_.main_link->name(),
+                      setup_.red_link ? setup_.red_link->name() : std::string("(none)"), control_->path().string(),
+                      setup_.pcap ? ", recording to " + setup_.pcap->path() : std::string());
+
+    // Fixed slots first, then the control server's.
+    enum Slot : std::size_t { kStop, kMain, kRed, kFirstLinkState };
+    std::vector<pollfd> fds;
+    next_flush_ = std::chrono::steady_clock::now() + kPcapFlushInterval;
+    for (;;) {
+        fds.clear();
+        fds.push_back(pollfd{setup_.stop_fd, POLLIN, 0});
+        fds.push_back(pollfd{setup_.main_link->selectable_fd(), POLLIN, 0});
+        fds.push_back(pollfd{setup_.red_link ? setup_.red_link->selectable_fd() : -1, POLLIN, 0});
+        for (const auto& source : setup_.link_states) fds.push_back(pollfd{source->selectable_fd(), POLLIN, 0});
+        const std::size_t control_slot = fds.size();
+        const std::size_t control_count = control_->append_poll_fds(fds);
+
+        const int ready = ::poll(fds.data(), fds.size(), flush_timeout_ms());
+        if (ready < 0) {
+            if (errno == EINTR) continue;
+            runner_log().error("poll: {}", std::error_code(errno, std::generic_category()).message());
+            return kExitFailure;
+        }
+        if ((fds[kStop].revents & POLLIN) != 0) {
+            runner_log().info("ecsim stopping");
+            return kExitOk;
+        }
+        if (fds[kMain].revents != 0 && !serve_side(sim::Side::Main)) return kExitFailure;
+        if (fds[kRed].revents != 0 && !serve_side(sim::Side::Red)) return kExitFailure;
+        for (std::size_t i = 0; i < setup_.link_states.size(); ++i) {
+            if (fds[kFirstLinkState + i].revents != 0) apply_link_changes(*setup_.link_states[i]);
+        }
+        control_->on_poll(std::span(fds).subspan(control_slot, control_count));
+
+        if (setup_.pcap && setup_.pcap->has_unflushed() && std::chrono::steady_clock::now() >= next_flush_) {
+            setup_.pcap->flush();
+            next_flush_ = std::chrono::steady_clock::now() + kPcapFlushInterval;
+        }
+    }
+}
+
+}  // namespace ecpair::ecsim

@@ -1,0 +1,73 @@
+#pragma once
+// ecsim's event loop: one thread, blocked in poll() on
+//   - the MAIN and RED links (a frame read is carried through the segment
+//     and sent out of the side it leaves by, at once),
+//   - the link state sources (carrier changes -> Segment::set_side_link),
+//   - the control socket (listener and clients),
+//   - a stop descriptor (a signalfd for SIGINT/SIGTERM in ecsim; any
+//     readable fd, e.g. an eventfd, in tests).
+// With --pcap every frame in and out is recorded; the file is flushed at
+// most a second after a frame and at exit.
+//
+// The runner works on the Link / LinkStateSource interfaces, so tests drive
+// it over MemoryWires as ecsim drives it over PcapLinks.
+
+#include <chrono>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "control_server.hpp"
+#include "ecpair/common/expected.hpp"
+#include "ecpair/link/link.hpp"
+#include "ecpair/link/link_state_source.hpp"
+#include "ecpair/sim/pcap_recorder.hpp"
+#include "ecpair/sim/segment.hpp"
+#include "exit_status.hpp"
+
+namespace ecpair::ecsim {
+
+struct RunnerSetup {
+    sim::Segment segment;
+    std::unique_ptr<link::Link> main_link;
+    std::unique_ptr<link::Link> red_link;  // null: no RED interface (the RED side has no carrier)
+    std::vector<std::unique_ptr<link::LinkStateSource>> link_states;
+    std::optional<sim::PcapRecorder> pcap;
+    std::filesystem::path control_path;
+    int stop_fd = -1;  // readable: leave run(); not owned
+};
+
+class SegmentRunner {
+public:
+    // Opens the control socket; fails when it cannot.
+    static Expected<std::unique_ptr<SegmentRunner>, std::string> create(RunnerSetup setup);
+    ~SegmentRunner();
+    SegmentRunner(const SegmentRunner&) = delete;
+    SegmentRunner& operator=(const SegmentRunner&) = delete;
+
+    // Serves until the stop descriptor is readable (returns kExitOk) or a
+    // link or poll() fails (kExitFailure); the pcap file is flushed either way.
+    int run();
+
+private:
+    explicit SegmentRunner(RunnerSetup setup);
+
+    int serve();  // the loop of run()
+    link::Link* link_of(sim::Side side) const;
+    // Reads the frames waiting on one side's link and carries each through.
+    // False when the link failed.
+    bool serve_side(sim::Side side);
+    void apply_link_changes(link::LinkStateSource& source);
+    void sync_side_links();
+    int flush_timeout_ms() const;
+
+    RunnerSetup setup_;
+    std::unique_ptr<ControlServer> control_;
+    std::chrono::steady_clock::time_point next_flush_;
+    std::uint64_t truncated_frames_ = 0;
+    std::uint64_t send_failures_ = 0;
+};
+
+}  // namespace ecpair::ecsim

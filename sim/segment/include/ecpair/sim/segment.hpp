@@ -1,0 +1,148 @@
+#pragma once
+// A simulated EtherCAT segment: a chain (or tree) of emulated ESCs wired as
+// the ENI describes, with the master's MAIN and RED sides at its ends.
+//
+// carry() moves one frame through the segment exactly as the wire would:
+// in at a side, from port to port in each ESC's processing order, through
+// the processing unit on the port-0 leg, over the cables of open ports, out
+// at a side (or lost, or destroyed). Faults (power, cut cables, a side's
+// carrier, an unknown slave spliced in, alias and ID changes) are methods
+// here; positions are 1-based, as operators count slaves.
+//
+// Not thread-safe: one thread (ecsim's event loop, or a test) drives it.
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "ecpair/common/bytes.hpp"
+#include "ecpair/common/expected.hpp"
+#include "ecpair/eni/model.hpp"
+#include "ecpair/sim/esc.hpp"
+#include "ecpair/sim/topology.hpp"
+
+namespace ecpair::sim {
+
+struct SegmentOptions {
+    // Time a frame takes from one port to the next ESC's port (cable plus
+    // the receiving ESC's forwarding delay), added at every arrival. It only
+    // spaces the DC receive-time latches and the EPU times apart.
+    std::uint64_t hop_delay_ns = 100;
+};
+
+// A slave of a segment described by hand (tests) or taken from an ENI.
+struct SlaveSpec {
+    EscDescription esc;
+    std::uint16_t phys_addr = 0;
+    std::optional<eni::PreviousPort> previous_port;
+    int source_line = 0;
+};
+
+struct SideCounters {
+    std::uint64_t frames_in = 0;   // frames that entered the segment at this side
+    std::uint64_t frames_out = 0;  // frames that left the segment at this side
+};
+
+struct SegmentCounters {
+    std::array<SideCounters, kSideCount> sides{};
+    std::uint64_t destroyed_circulating = 0;  // an EPU destroyed it (circulating bit already set)
+    std::uint64_t lost_no_link = 0;           // sent out of a port whose cable is cut, unplugged or dead
+    std::uint64_t lost_closed_port = 0;       // reached a port that was closed (e.g. auto-close's closed wait)
+    std::uint64_t non_ethercat_dropped = 0;   // destroyed by an EPU's forwarding rule
+    std::uint64_t unprocessable = 0;          // EtherType 0x88A4 but not a valid datagram frame: forwarded untouched
+    std::uint64_t hop_limit_exceeded = 0;     // still travelling after the hop bound: dropped
+};
+
+// Why a fault request was refused ("position 7 is out of range 1..5").
+struct FaultError {
+    std::string message;
+};
+
+// The vendor ID of the slave insert_unknown_slave() adds: in no ENI.
+inline constexpr std::uint32_t kUnknownSlaveVendorId = 0x0BADC0DE;
+EscDescription unknown_slave_description();
+
+class Segment {
+public:
+    // The ENI's slaves in file order, wired by their PreviousPort entries.
+    static Expected<Segment, TopologyError> from_eni(const eni::EniConfig& config, SegmentOptions options = {});
+    // Slaves described by hand, wired by the same rules as an ENI.
+    static Expected<Segment, TopologyError> from_specs(std::vector<SlaveSpec> slaves, SegmentOptions options = {});
+    // Slaves and an explicit wiring (Topology::from_cables).
+    static Expected<Segment, TopologyError> with_wiring(std::vector<EscDescription> slaves, std::vector<Cable> cables,
+                                                        SegmentOptions options = {});
+
+    Segment(Segment&&) noexcept;
+    Segment& operator=(Segment&&) noexcept;
+    ~Segment();
+
+    // Carries the frame held in buffer[0, size) that enters at `entry` at
+    // time `now_ns`. Frames shorter than 60 bytes are first padded with zeros
+    // (size grows; the buffer must hold at least 60 bytes). The ESCs change
+    // the frame in place. Returns the side it leaves by, or nullopt when it
+    // died on the way (see the counters). Allocates nothing.
+    std::optional<Side> carry(Side entry, Bytes buffer, std::size_t& size, std::uint64_t now_ns);
+
+    // ---- faults (positions 1..n)
+    // Power: all the slave's ports lose link, so neighbours see link loss;
+    // power-on restarts the ESC from its reset state. Repeating is a no-op.
+    Expected<void, FaultError> power_off(std::size_t position);
+    Expected<void, FaultError> power_on(std::size_t position);
+    // Cuts / mends the cable after slave k (0 <= k <= n): k = 0 is the cable
+    // entering slave 1, k = n the cable to the RED side; in a tree, the cable
+    // entering slave k+1's port A.
+    Expected<void, FaultError> break_link_after(std::size_t k);
+    Expected<void, FaultError> repair_link_after(std::size_t k);
+    // The carrier of the master side (ecsim follows the real interface).
+    void set_side_link(Side side, bool up);
+    // Splices a slave that is in no ENI (unknown_slave_description()) into
+    // the segment so that it becomes slave `position` (1..n+1); remove takes
+    // such a slave out again. Both re-plug cables: the neighbours see a link
+    // loss and a new link, as with a real cable.
+    Expected<void, FaultError> insert_unknown_slave(std::size_t position);
+    Expected<void, FaultError> remove_unknown_slave(std::size_t position);
+    // EEPROM alias (SII word 4; the ESC takes it over at its next EEPROM load)
+    // and the explicit device ID selector.
+    Expected<void, FaultError> set_eeprom_alias(std::size_t position, std::uint16_t alias);
+    Expected<void, FaultError> set_id_selector(std::size_t position, std::uint16_t value);
+
+    // ---- inspection (positions 1..slave_count())
+    std::size_t slave_count() const { return escs_.size(); }
+    const Esc& slave(std::size_t position) const { return escs_[position - 1]; }
+    bool is_unknown(std::size_t position) const { return unknown_[position - 1]; }
+    bool side_link(Side side) const { return side_link_[static_cast<std::size_t>(side)]; }
+    // Whether the cable after slave k exists and is intact.
+    bool link_after_intact(std::size_t k) const;
+    const Topology& topology() const { return topology_; }
+    const SegmentCounters& counters() const { return counters_; }
+
+private:
+    Segment(std::vector<Esc> escs, Topology topology, SegmentOptions options);
+    static Expected<Segment, TopologyError> build(std::vector<SlaveSpec> specs, SegmentOptions options,
+                                                  const std::string& file);
+
+    Expected<std::size_t, FaultError> slave_index(std::size_t position) const;
+    Expected<std::size_t, FaultError> cable_after(std::size_t k) const;
+    bool endpoint_alive(const Endpoint& end) const;
+    bool cable_has_link(std::size_t cable) const;
+    // Brings every ESC port's physical link in line with cables, power and
+    // sides; each change is logged (at info when `announce`, else debug).
+    void update_links(bool announce = true);
+    // Takes the link away from the slave ports on these cables first (a
+    // re-plugged cable), then update_links().
+    void replug(std::span<const std::size_t> cables);
+
+    std::vector<Esc> escs_;
+    std::vector<bool> unknown_;  // per slave: spliced in by insert_unknown_slave()
+    Topology topology_;
+    SegmentOptions options_;
+    std::array<bool, kSideCount> side_link_{true, true};
+    SegmentCounters counters_;
+    std::uint64_t next_frame_seq_ = 1;
+};
+
+}  // namespace ecpair::sim

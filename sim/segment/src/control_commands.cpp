@@ -1,0 +1,106 @@
+// Executes parsed control requests on a Segment and formats the answers.
+// The segment does the work and says why it refuses (FaultError); this file
+// only maps requests to calls and results to response lines.
+
+#include "ecpair/sim/control_commands.hpp"
+
+#include <fmt/format.h>
+
+#include "ecpair/wire/al_status.hpp"
+
+namespace ecpair::sim {
+
+namespace {
+
+std::string quoted(std::string_view text) {
+    std::string out = "\"";
+    for (const char c : text) {
+        const auto byte = static_cast<unsigned char>(c);
+        out += (byte < 0x20 || byte == 0x7F) ? ' ' : (c == '"' ? '\'' : c);
+    }
+    out += '"';
+    return out;
+}
+
+std::string port_states(const Esc& esc) {
+    std::string text;
+    for (int p = 0; p < kPortCount; ++p) {
+        if (!esc.port_implemented(p)) continue;
+        if (!text.empty()) text += ',';
+        text += fmt::format("{}:{}/{}", p, esc.physical_link(p) ? "up" : "down", esc.port_open(p) ? "open" : "closed");
+    }
+    return text;
+}
+
+std::string outcome(const Expected<void, FaultError>& result, std::string_view done) {
+    return result ? control_ok(done) : control_error(result.error().message);
+}
+
+}  // namespace
+
+std::string format_status(const Segment& segment) {
+    const auto& c = segment.counters();
+    const auto& main = c.sides[static_cast<std::size_t>(Side::Main)];
+    const auto& red = c.sides[static_cast<std::size_t>(Side::Red)];
+
+    std::string broken;
+    for (std::size_t k = 0; k <= segment.slave_count(); ++k) {
+        if (segment.topology().cable_after(k) && !segment.link_after_intact(k)) {
+            broken += broken.empty() ? fmt::format("{}", k) : fmt::format(",{}", k);
+        }
+    }
+
+    std::string text = fmt::format(
+        "slaves={} main={} red={} in=MAIN:{},RED:{} out=MAIN:{},RED:{} destroyed={} lost_no_link={} "
+        "lost_closed_port={} non_ecat_dropped={} unprocessable={} hop_limit={} broken={}",
+        segment.slave_count(), segment.side_link(Side::Main) ? "up" : "down",
+        segment.side_link(Side::Red) ? "up" : "down", main.frames_in, red.frames_in, main.frames_out, red.frames_out,
+        c.destroyed_circulating, c.lost_no_link, c.lost_closed_port, c.non_ethercat_dropped, c.unprocessable,
+        c.hop_limit_exceeded, broken.empty() ? "none" : broken);
+
+    for (std::size_t position = 1; position <= segment.slave_count(); ++position) {
+        const Esc& esc = segment.slave(position);
+        const auto& d = esc.description();
+        text += fmt::format(
+            " | {} name={} vendor={:#010x} product={:#010x} addr={:#06x} alias={:#06x} al={} powered={} unknown={} "
+            "ports={}",
+            position, quoted(d.name), d.vendor_id, d.product_code, esc.station_address(), esc.station_alias(),
+            wire::AlStatus{esc.al_status()}.to_string(), esc.powered() ? "yes" : "no",
+            segment.is_unknown(position) ? "yes" : "no", port_states(esc));
+    }
+    return control_ok(text);
+}
+
+std::string execute_control_request(Segment& segment, const ControlRequest& request) {
+    const std::size_t k = request.position;
+    switch (request.command) {
+        case ControlCommand::Status: return format_status(segment);
+        case ControlCommand::Help: return control_ok(control_usage());
+        case ControlCommand::PowerOff: return outcome(segment.power_off(k), fmt::format("slave {} powered off", k));
+        case ControlCommand::PowerOn: return outcome(segment.power_on(k), fmt::format("slave {} powered on", k));
+        case ControlCommand::Break:
+            return outcome(segment.break_link_after(k), fmt::format("link after slave {} broken", k));
+        case ControlCommand::Repair:
+            return outcome(segment.repair_link_after(k), fmt::format("link after slave {} repaired", k));
+        case ControlCommand::InsertUnknown:
+            return outcome(segment.insert_unknown_slave(k), fmt::format("unknown slave inserted as slave {}", k));
+        case ControlCommand::RemoveUnknown:
+            return outcome(segment.remove_unknown_slave(k), fmt::format("unknown slave {} removed", k));
+        case ControlCommand::SetAlias:
+            return outcome(
+                segment.set_eeprom_alias(k, request.value),
+                fmt::format("slave {} EEPROM alias {:#06x} (taken over at its next EEPROM load)", k, request.value));
+        case ControlCommand::SetId:
+            return outcome(segment.set_id_selector(k, request.value),
+                           fmt::format("slave {} ID selector {:#06x}", k, request.value));
+    }
+    return control_error("unhandled command");
+}
+
+std::string handle_control_line(Segment& segment, std::string_view line) {
+    const auto request = parse_control_request(line);
+    if (!request) return control_error(request.error().message);
+    return execute_control_request(segment, *request);
+}
+
+}  // namespace ecpair::sim

@@ -1,0 +1,462 @@
+// How a frame travels through the simulated segment, and the faults.
+//
+// carry() is a small state machine over three steps, repeated until the
+// frame leaves at a side or dies:
+//
+//   Transmit(end)      the frame leaves by `end` (a side, or an open slave
+//                      port) over its cable. No cable, a cut cable or a dead
+//                      far end (unpowered slave, side without carrier): lost.
+//                      Reaching a side: the frame leaves the segment there.
+//                      Reaching a slave port: the ESC is told (DC latch,
+//                      auto-close's closed wait); if that port was closed the
+//                      frame is lost, else it goes on inside that ESC:
+//                      port 0 -> Epu, port p -> Loopback(next_port(p)).
+//   Loopback(slave, p) the ESC's loopback function of port p: an open port
+//                      sends the frame out (Transmit); a closed one passes
+//                      it to the next port, and a closed port 0 hands it
+//                      into the processing unit (Epu).
+//   Epu(slave)         the processing unit works on the frame (or destroys
+//                      it), then it goes to Loopback(3), the port after the
+//                      EPU in every ESC's order.
+//
+// An ESC forwards a frame while it streams through, so the frame's own
+// register writes (a new loop setting in 0x0101, applied by the ESC at the
+// end of the frame) cannot change the way this frame leaves that ESC: the
+// loopbacks after an EPU pass use the ports' states from before it.
+//
+// Each arrival at a port adds options.hop_delay_ns to the frame's time.
+//
+// While the port states stay fixed, each step has exactly one predecessor,
+// so a frame's path cannot run into a loop that avoids its entry: it always
+// ends at a side (or dies). The bound on the steps (kStepsPerSlave per
+// slave) is a guard against an ESC that changes its mind mid-frame.
+//
+// Physical links are derived, never stored here: a port has link when its
+// cable is intact and both ends are alive (slave powered, side with
+// carrier). update_links() pushes changes into the ESCs after every fault.
+
+#include "ecpair/sim/segment.hpp"
+
+#include <fmt/format.h>
+
+#include <cassert>
+
+#include "ecpair/common/log.hpp"
+#include "ecpair/wire/frame.hpp"
+
+namespace ecpair::sim {
+
+namespace {
+
+// An upper bound on the steps a frame may take per slave: each port of a
+// slave is reached at most once, each arrival a few steps.
+constexpr std::size_t kStepsPerSlave = 32;
+
+spdlog::logger& segment_log() {
+    static const auto logger = ecpair::logger("segment");
+    return *logger;
+}
+
+// Whether the per-frame debug lines are wanted; checked before building
+// their text, so that carry() allocates nothing when they are not.
+bool tracing_frames() { return segment_log().should_log(spdlog::level::debug); }
+
+enum class FrameKind : std::uint8_t { EtherCat, NotEtherCat, Unprocessable };
+
+PortMask port_mask(const Esc& esc) {
+    PortMask mask = 0;
+    for (int p = 0; p < kPortCount; ++p) {
+        if (esc.port_implemented(p)) mask = static_cast<PortMask>(mask | port_bit(p));
+    }
+    return mask;
+}
+
+std::vector<PortMask> port_masks(const std::vector<Esc>& escs) {
+    std::vector<PortMask> masks;
+    masks.reserve(escs.size());
+    for (const auto& esc : escs) masks.push_back(port_mask(esc));
+    return masks;
+}
+
+std::vector<Esc> make_escs(std::vector<EscDescription> descriptions) {
+    std::vector<Esc> escs;
+    escs.reserve(descriptions.size());
+    for (auto& description : descriptions) escs.emplace_back(std::move(description));
+    return escs;
+}
+
+const eni::PreviousPort* selected_previous_port(const eni::Slave& slave) {
+    for (const auto& previous : slave.previous_ports) {
+        if (previous.selected) return &previous;
+    }
+    return slave.previous_ports.empty() ? nullptr : &slave.previous_ports.front();
+}
+
+}  // namespace
+
+EscDescription unknown_slave_description() {
+    EscDescription description;
+    description.name = "unknown slave";
+    description.vendor_id = kUnknownSlaveVendorId;
+    description.product_code = 0x00000001;
+    description.revision_no = 0x00000001;
+    description.physics = "YY";
+    return description;
+}
+
+Segment::Segment(std::vector<Esc> escs, Topology topology, SegmentOptions options)
+    : escs_(std::move(escs)), unknown_(escs_.size(), false), topology_(std::move(topology)), options_(options) {
+    update_links(/*announce=*/false);  // the initial links are no news
+}
+
+Segment::Segment(Segment&&) noexcept = default;
+Segment& Segment::operator=(Segment&&) noexcept = default;
+Segment::~Segment() = default;
+
+Expected<Segment, TopologyError> Segment::build(std::vector<SlaveSpec> specs, SegmentOptions options,
+                                                const std::string& file) {
+    std::vector<EscDescription> descriptions;
+    descriptions.reserve(specs.size());
+    for (auto& spec : specs) descriptions.push_back(std::move(spec.esc));
+    auto escs = make_escs(std::move(descriptions));
+    const auto masks = port_masks(escs);
+
+    std::vector<TopologySlave> placed;
+    placed.reserve(specs.size());
+    for (std::size_t i = 0; i < specs.size(); ++i) {
+        placed.push_back(TopologySlave{escs[i].description().name, specs[i].phys_addr, masks[i], specs[i].previous_port,
+                                       specs[i].source_line});
+    }
+    auto topology = Topology::from_slaves(placed);
+    if (!topology) {
+        TopologyError error = std::move(topology).error();
+        error.file = file;
+        return unexpected(std::move(error));
+    }
+    return Segment(std::move(escs), std::move(topology).value(), options);
+}
+
+Expected<Segment, TopologyError> Segment::from_eni(const eni::EniConfig& config, SegmentOptions options) {
+    std::vector<SlaveSpec> specs;
+    specs.reserve(config.slaves.size());
+    for (const auto& slave : config.slaves) {
+        const auto* previous = selected_previous_port(slave);
+        specs.push_back(SlaveSpec{EscDescription::from_eni(slave), slave.info.phys_addr,
+                                  previous ? std::optional<eni::PreviousPort>(*previous) : std::nullopt,
+                                  slave.source_line});
+    }
+    return build(std::move(specs), options, config.source_path);
+}
+
+Expected<Segment, TopologyError> Segment::from_specs(std::vector<SlaveSpec> slaves, SegmentOptions options) {
+    return build(std::move(slaves), options, {});
+}
+
+Expected<Segment, TopologyError> Segment::with_wiring(std::vector<EscDescription> slaves, std::vector<Cable> cables,
+                                                      SegmentOptions options) {
+    auto escs = make_escs(std::move(slaves));
+    auto topology = Topology::from_cables(port_masks(escs), std::move(cables));
+    if (!topology) return unexpected(std::move(topology).error());
+    return Segment(std::move(escs), std::move(topology).value(), options);
+}
+
+// ------------------------------------------------------------------ carry
+
+std::optional<Side> Segment::carry(Side entry, Bytes buffer, std::size_t& size, std::uint64_t now_ns) {
+    assert(buffer.size() >= wire::kMinFrameSize && size <= buffer.size());
+    size = wire::pad_to_minimum(buffer, size);
+    ++counters_.sides[static_cast<std::size_t>(entry)].frames_in;
+
+    auto parsed = wire::FrameView::parse(buffer.first(size));
+    FrameKind kind = FrameKind::EtherCat;
+    if (!parsed) {
+        kind = parsed.error().code == wire::DecodeErrc::NotEtherCat ? FrameKind::NotEtherCat : FrameKind::Unprocessable;
+        if (kind == FrameKind::Unprocessable) {
+            ++counters_.unprocessable;
+            if (tracing_frames()) {
+                segment_log().debug("frame from {}: {}; forwarded without processing", to_string(entry),
+                                    parsed.error().describe());
+            }
+        }
+    }
+
+    enum class Step : std::uint8_t { Transmit, Loopback, Epu };
+    Step step = Step::Transmit;
+    Endpoint leaving = Endpoint::of_side(entry);  // Transmit
+    std::size_t slave = 0;                        // Loopback, Epu
+    int port = 0;                                 // Loopback
+    // Port states of `slave` from before its EPU pass, while the frame is
+    // still inside that slave (see above).
+    std::optional<std::array<bool, kPortCount>> open_before_epu;
+    const std::uint64_t seq = next_frame_seq_++;
+    std::uint64_t time = now_ns;
+
+    const std::size_t max_steps = kStepsPerSlave * (escs_.size() + 1);
+    for (std::size_t steps = 0; steps < max_steps; ++steps) {
+        switch (step) {
+            case Step::Transmit: {
+                const auto cable = topology_.cable_at(leaving);
+                if (!cable || !cable_has_link(*cable)) {
+                    ++counters_.lost_no_link;
+                    if (tracing_frames()) {
+                        segment_log().debug("frame {} from {} lost: {} has no link", seq, to_string(entry),
+                                            describe(leaving));
+                    }
+                    return std::nullopt;
+                }
+                const Endpoint arriving = topology_.peer(*cable, leaving);
+                if (arriving.is_side()) {
+                    ++counters_.sides[static_cast<std::size_t>(arriving.side)].frames_out;
+                    return arriving.side;
+                }
+                time += options_.hop_delay_ns;
+                Esc& esc = escs_[arriving.slave];
+                const bool was_open = esc.port_open(arriving.port);
+                esc.frame_arrived_at_port(arriving.port, time, seq);
+                if (!was_open) {
+                    ++counters_.lost_closed_port;
+                    if (tracing_frames()) {
+                        segment_log().debug("frame {} from {} lost: {} is closed", seq, to_string(entry),
+                                            describe(arriving));
+                    }
+                    return std::nullopt;
+                }
+                slave = arriving.slave;
+                open_before_epu.reset();
+                if (arriving.port == 0) {
+                    step = Step::Epu;
+                } else {
+                    step = Step::Loopback;
+                    port = next_port(arriving.port);
+                }
+                break;
+            }
+            case Step::Loopback:
+                if (open_before_epu ? (*open_before_epu)[static_cast<std::size_t>(port)]
+                                    : escs_[slave].port_open(port)) {
+                    step = Step::Transmit;
+                    leaving = Endpoint::of_port(slave, port);
+                } else if (port == 0) {
+                    step = Step::Epu;
+                } else {
+                    port = next_port(port);
+                }
+                break;
+            case Step::Epu: {
+                Esc& esc = escs_[slave];
+                if (!open_before_epu) {
+                    open_before_epu.emplace();
+                    for (int p = 0; p < kPortCount; ++p)
+                        (*open_before_epu)[static_cast<std::size_t>(p)] = esc.port_open(p);
+                }
+                EpuVerdict verdict = EpuVerdict::Forward;
+                if (kind == FrameKind::EtherCat) {
+                    verdict = esc.process(parsed.value(), FrameContext{time, seq});
+                    if (verdict == EpuVerdict::Destroy) ++counters_.destroyed_circulating;
+                } else if (kind == FrameKind::NotEtherCat) {
+                    verdict = esc.process_non_ethercat();
+                    if (verdict == EpuVerdict::Destroy) ++counters_.non_ethercat_dropped;
+                }
+                if (verdict == EpuVerdict::Destroy) {
+                    segment_log().debug("frame {} from {} destroyed by the EPU of slave {}", seq, to_string(entry),
+                                        slave + 1);
+                    return std::nullopt;
+                }
+                step = Step::Loopback;
+                port = next_port(0);
+                break;
+            }
+        }
+    }
+    ++counters_.hop_limit_exceeded;
+    segment_log().warn("frame {} from {} still travelling after {} steps: dropped", seq, to_string(entry), max_steps);
+    return std::nullopt;
+}
+
+// ------------------------------------------------------------------ links
+
+bool Segment::endpoint_alive(const Endpoint& end) const {
+    return end.is_side() ? side_link_[static_cast<std::size_t>(end.side)] : escs_[end.slave].powered();
+}
+
+bool Segment::cable_has_link(std::size_t index) const {
+    const Cable& cable = topology_.cable(index);
+    return cable.intact && endpoint_alive(cable.upstream) && endpoint_alive(cable.downstream);
+}
+
+void Segment::update_links(bool announce) {
+    const auto log_level = announce ? spdlog::level::info : spdlog::level::debug;
+    for (std::size_t s = 0; s < escs_.size(); ++s) {
+        for (int p = 0; p < kPortCount; ++p) {
+            if (!topology_.has_port(s, p)) continue;
+            const auto cable = topology_.cable_at(Endpoint::of_port(s, p));
+            const bool up = cable && cable_has_link(*cable);
+            if (escs_[s].physical_link(p) != up) {
+                escs_[s].set_physical_link(p, up);
+                segment_log().log(log_level, "slave {} port {}: link {}", s + 1, p, up ? "up" : "down");
+            }
+        }
+    }
+}
+
+void Segment::replug(std::span<const std::size_t> cables) {
+    for (const std::size_t index : cables) {
+        const Cable& cable = topology_.cable(index);
+        for (const Endpoint* end : {&cable.upstream, &cable.downstream}) {
+            if (!end->is_side() && escs_[end->slave].physical_link(end->port)) {
+                escs_[end->slave].set_physical_link(end->port, false);
+                segment_log().info("{}: link down (cable re-plugged)", describe(*end));
+            }
+        }
+    }
+    update_links();
+}
+
+// ------------------------------------------------------------------ faults
+
+Expected<std::size_t, FaultError> Segment::slave_index(std::size_t position) const {
+    if (escs_.empty()) return unexpected(FaultError{"the segment has no slaves"});
+    if (position < 1 || position > escs_.size()) {
+        return unexpected(FaultError{fmt::format("position {} is out of range 1..{}", position, escs_.size())});
+    }
+    return position - 1;
+}
+
+Expected<std::size_t, FaultError> Segment::cable_after(std::size_t k) const {
+    if (k > escs_.size()) {
+        return unexpected(FaultError{fmt::format("link {} is out of range 0..{}", k, escs_.size())});
+    }
+    const auto cable = topology_.cable_after(k);
+    if (!cable) {
+        return unexpected(FaultError{k == escs_.size() ? std::string("the RED side is not connected to any slave")
+                                                       : fmt::format("slave {} has no cable on port A", k + 1)});
+    }
+    return *cable;
+}
+
+bool Segment::link_after_intact(std::size_t k) const {
+    const auto cable = topology_.cable_after(k);
+    return cable && topology_.cable(*cable).intact;
+}
+
+Expected<void, FaultError> Segment::power_off(std::size_t position) {
+    const auto index = slave_index(position);
+    if (!index) return unexpected(index.error());
+    Esc& esc = escs_[*index];
+    if (!esc.powered()) return {};
+    esc.power_off();
+    segment_log().info("slave {} '{}': power off", position, esc.description().name);
+    update_links();
+    return {};
+}
+
+Expected<void, FaultError> Segment::power_on(std::size_t position) {
+    const auto index = slave_index(position);
+    if (!index) return unexpected(index.error());
+    Esc& esc = escs_[*index];
+    if (esc.powered()) return {};
+    esc.power_on();
+    segment_log().info("slave {} '{}': power on", position, esc.description().name);
+    update_links();
+    return {};
+}
+
+Expected<void, FaultError> Segment::break_link_after(std::size_t k) {
+    const auto cable = cable_after(k);
+    if (!cable) return unexpected(cable.error());
+    if (!topology_.cable(*cable).intact) return {};
+    topology_.set_intact(*cable, false);
+    segment_log().info("link after slave {} ({} - {}): cut", k, describe(topology_.cable(*cable).upstream),
+                       describe(topology_.cable(*cable).downstream));
+    update_links();
+    return {};
+}
+
+Expected<void, FaultError> Segment::repair_link_after(std::size_t k) {
+    const auto cable = cable_after(k);
+    if (!cable) return unexpected(cable.error());
+    if (topology_.cable(*cable).intact) return {};
+    topology_.set_intact(*cable, true);
+    segment_log().info("link after slave {} ({} - {}): repaired", k, describe(topology_.cable(*cable).upstream),
+                       describe(topology_.cable(*cable).downstream));
+    update_links();
+    return {};
+}
+
+void Segment::set_side_link(Side side, bool up) {
+    bool& link = side_link_[static_cast<std::size_t>(side)];
+    if (link == up) return;
+    link = up;
+    segment_log().info("{} side: carrier {}", to_string(side), up ? "up" : "down");
+    update_links();
+}
+
+Expected<void, FaultError> Segment::insert_unknown_slave(std::size_t position) {
+    if (position < 1 || position > escs_.size() + 1) {
+        return unexpected(FaultError{fmt::format("position {} is out of range 1..{}", position, escs_.size() + 1)});
+    }
+    const std::size_t index = position - 1;
+    Esc esc(unknown_slave_description());
+    if (auto inserted = topology_.insert_slave(index, port_mask(esc)); !inserted) {
+        return unexpected(FaultError{inserted.error().message});
+    }
+    escs_.insert(escs_.begin() + static_cast<std::ptrdiff_t>(index), std::move(esc));
+    unknown_.insert(unknown_.begin() + static_cast<std::ptrdiff_t>(index), true);
+    segment_log().info("unknown slave (vendor {:#010x}) inserted as slave {}", kUnknownSlaveVendorId, position);
+
+    const std::array<std::size_t, 2> replugged{*topology_.cable_at(Endpoint::of_port(index, 0)),
+                                               *topology_.cable_at(Endpoint::of_port(index, 1))};
+    replug(replugged);
+    return {};
+}
+
+Expected<void, FaultError> Segment::remove_unknown_slave(std::size_t position) {
+    const auto index = slave_index(position);
+    if (!index) return unexpected(index.error());
+    if (!unknown_[*index]) {
+        return unexpected(
+            FaultError{fmt::format("slave {} is '{}' from the ENI; only slaves added by insert-unknown can be removed",
+                                   position, escs_[*index].description().name)});
+    }
+    // Where the slave's upstream cable came from: after the removal that end
+    // is plugged into the slave's old downstream neighbour.
+    std::optional<Endpoint> upstream;
+    if (const auto in = topology_.cable_at(Endpoint::of_port(*index, 0))) {
+        upstream = topology_.peer(*in, Endpoint::of_port(*index, 0));
+        if (!upstream->is_side() && upstream->slave > *index) --upstream->slave;
+    }
+    if (auto removed = topology_.remove_slave(*index); !removed) {
+        return unexpected(FaultError{removed.error().message});
+    }
+    escs_.erase(escs_.begin() + static_cast<std::ptrdiff_t>(*index));
+    unknown_.erase(unknown_.begin() + static_cast<std::ptrdiff_t>(*index));
+    segment_log().info("unknown slave {} removed", position);
+
+    if (upstream) {
+        if (const auto joined = topology_.cable_at(*upstream)) {
+            const std::array<std::size_t, 1> replugged{*joined};
+            replug(replugged);
+            return {};
+        }
+    }
+    update_links();
+    return {};
+}
+
+Expected<void, FaultError> Segment::set_eeprom_alias(std::size_t position, std::uint16_t alias) {
+    const auto index = slave_index(position);
+    if (!index) return unexpected(index.error());
+    escs_[*index].set_eeprom_alias(alias);
+    segment_log().info("slave {}: EEPROM alias set to {}", position, alias);
+    return {};
+}
+
+Expected<void, FaultError> Segment::set_id_selector(std::size_t position, std::uint16_t value) {
+    const auto index = slave_index(position);
+    if (!index) return unexpected(index.error());
+    escs_[*index].set_id_selector(value);
+    segment_log().info("slave {}: ID selector set to {}", position, value);
+    return {};
+}
+
+}  // namespace ecpair::sim

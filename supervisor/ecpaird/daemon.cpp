@@ -1,0 +1,182 @@
+// Start-up order matters: links and the master exist before any thread runs;
+// receive threads start before the cycle thread so that the first returned
+// frames find a reader; the state machine is asked for the target state once
+// the cycle runs (its requests travel through the cycle). Shutdown goes the
+// other way round.
+
+#include "daemon.hpp"
+
+#include <fmt/format.h>
+
+#include "ecpair/common/log.hpp"
+#include "ecpair/eni/loader.hpp"
+
+namespace ecpair::daemon {
+namespace {
+
+std::shared_ptr<spdlog::logger> log() { return logger("ecpaird"); }
+
+}  // namespace
+
+Daemon::Daemon(config::DaemonSettings settings) : settings_(std::move(settings)) {}
+
+Daemon::~Daemon() { stop_threads(); }
+
+std::chrono::microseconds Daemon::cycle_time() const {
+    if (settings_.cycle_time_from_config) return settings_.cycle_time;
+    for (const auto& cyclic : eni_->cyclic) {
+        if (cyclic.cycle_time_us && *cyclic.cycle_time_us > 0) return std::chrono::microseconds(*cyclic.cycle_time_us);
+    }
+    return settings_.cycle_time;
+}
+
+int Daemon::open() {
+    auto eni = eni::load_eni_file(settings_.eni_path);
+    if (!eni) {
+        log()->error("{}", eni.error().describe());
+        return kBadConfig;
+    }
+    eni_ = *eni;
+
+    auto main = link::PcapLink::open(settings_.main_interface);
+    if (!main) {
+        log()->error("MAIN: {}", main.error().message);
+        return kLinkFailure;
+    }
+    main_link_ = std::move(*main);
+    if (!settings_.red_interface.empty()) {
+        auto red = link::PcapLink::open(settings_.red_interface);
+        if (!red) {
+            log()->error("RED: {}", red.error().message);
+            return kLinkFailure;
+        }
+        red_link_ = std::move(*red);
+    }
+    std::vector<std::string> watched{settings_.main_interface};
+    if (red_link_) watched.push_back(settings_.red_interface);
+    auto monitor = link::LinkStateMonitor::open(watched);
+    if (!monitor) {
+        log()->error("link monitor: {}", monitor.error().message);
+        return kLinkFailure;
+    }
+    link_monitor_ = std::move(*monitor);
+
+    master::MasterOptions options;
+    options.cycle_time = cycle_time();
+    options.cable_redundancy = settings_.cable_redundancy;
+    options.split_lrw = settings_.split_lrw;
+    options.max_acyclic_frames_per_cycle = settings_.max_acyclic_frames_per_cycle;
+    auto created = master::Master::create(eni_, options, *main_link_, red_link_.get(), events_);
+    if (!created) {
+        log()->error("{}", *&created.error());
+        return kBadConfig;
+    }
+    master_ = std::move(*created);
+
+    demo_ = std::make_unique<DemoApplication>(*eni_, settings_.demo, settings_.demo_step_cycles);
+    master_->set_cycle_hook([this](master::ProcessImage& image, const master::CycleInfo& info) {
+        demo_->on_cycle(image, info);
+    });
+
+    sequencer::StateMachineHooks hooks;
+    hooks.request_cyclic_state = [this](eni::SlaveState s) { master_->request_state(s); };
+    hooks.cyclic_state = [this] { return master_->state(); };
+    hooks.on_done = [](const sequencer::SequenceResult& result) {
+        if (result.error) {
+            log()->error("state machine stopped in {} (target {}): {}", sequencer::to_string(result.reached),
+                         sequencer::to_string(result.target), result.error->message);
+        } else {
+            log()->info("slaves in {}", sequencer::to_string(result.reached));
+        }
+    };
+    state_machine_ = std::make_unique<sequencer::MasterStateMachine>(eni_, master_->bus(), std::move(hooks), &events_);
+
+    log()->info("{}: ENI {} ({} slaves), MAIN {}{}, cycle {} µs, cable redundancy {}", settings_.name,
+                settings_.eni_path, eni_->slaves.size(), settings_.main_interface,
+                red_link_ ? fmt::format(", RED {}", settings_.red_interface) : std::string(),
+                cycle_time().count(), settings_.cable_redundancy ? "on" : "off");
+    return kOk;
+}
+
+void Daemon::start_threads() {
+    auto add_receiver = [this](link::Link& link, master::LinkRole role) {
+        receive_threads_.push_back(std::make_unique<master::ReceiveThread>(
+            link,
+            [this, role](ConstBytes frame, link::Clock::time_point at) { master_->on_frame(role, frame, at); },
+            fmt::format("ecpair-rx-{}", role == master::LinkRole::Main ? "main" : "red"),
+            // Just below the cycle: returned frames must be in the ring before the next cycle.
+            std::max(settings_.realtime_priority - 1, 0)));
+        receive_threads_.back()->start();
+    };
+    add_receiver(*main_link_, master::LinkRole::Main);
+    if (red_link_) add_receiver(*red_link_, master::LinkRole::Red);
+
+    master::CycleThreadOptions cycle;
+    cycle.period = master_->options().cycle_time;
+    cycle.realtime_priority = settings_.realtime_priority;
+    cycle_thread_ = std::make_unique<master::CycleThread>(
+        cycle, [this](link::Clock::time_point deadline) { master_->run_cycle(deadline); });
+    cycle_thread_->start();
+
+    event_thread_ = std::thread([this] { pump_events(); });
+}
+
+void Daemon::stop_threads() {
+    stopping_ = true;
+    state_machine_.reset();  // cancels a running sequence (its requests fail when the cycle stops)
+    if (cycle_thread_) cycle_thread_->stop();
+    for (auto& r : receive_threads_) r->stop();
+    if (event_thread_.joinable()) event_thread_.join();
+}
+
+void Daemon::pump_events() {
+    while (!stopping_.load()) {
+        for (const auto& event : events_.pop_all(std::chrono::milliseconds(200))) {
+            log()->info("event {}: {}", master::to_string(event.kind), master::describe(event));
+        }
+    }
+}
+
+void Daemon::watch_links() {
+    link_fd_->async_wait(boost::asio::posix::stream_descriptor::wait_read, [this](const boost::system::error_code& ec) {
+        if (ec) return;
+        for (const auto& change : link_monitor_->read_changes()) {
+            const auto role = change.interface == settings_.main_interface ? master::LinkRole::Main : master::LinkRole::Red;
+            log()->info("link {} ({}) {}", master::to_string(role), change.interface, change.up ? "up" : "down");
+            master_->set_link_state(role, change.up);
+        }
+        watch_links();
+    });
+}
+
+int Daemon::run() {
+    start_threads();
+    state_machine_->request(*sequencer::to_master_state(settings_.target_state));
+
+    boost::asio::signal_set signals(io_, SIGINT, SIGTERM);
+    signals.async_wait([this](const boost::system::error_code& ec, int signal) {
+        if (!ec) log()->info("signal {}: stopping", signal);
+        io_.stop();
+    });
+    // The monitor keeps its fd; asio must not close it.
+    link_fd_.emplace(io_, ::dup(link_monitor_->selectable_fd()));
+    watch_links();
+    io_.run();
+
+    const auto timing = cycle_thread_->timing();
+    const auto stats = master_->stats();
+    stop_threads();
+    log()->info("{} cycles ({} late, {} skipped, wake-up latency p99 {} µs, max {} µs), {} frames sent, {} lost, "
+                "{} late copies, {} incomplete cycles, {} WKC errors",
+                timing.cycles, timing.late, timing.skipped, timing.latency_percentile_us(99.0),
+                std::chrono::duration_cast<std::chrono::microseconds>(timing.max_wake_latency).count(),
+                stats.frames_sent, stats.frames_lost, stats.late_frames, stats.cycles_incomplete, stats.wkc_errors);
+    if (settings_.demo == config::DemoKind::LoopbackCheck) {
+        const auto loop = demo_->stats();
+        log()->info("loopback check: {} cycles in OP checked, {} slave checks, {} mismatches", loop.cycles_checked,
+                    loop.slaves_checked, loop.mismatches);
+    }
+    return kOk;
+}
+
+}  // namespace ecpair::daemon

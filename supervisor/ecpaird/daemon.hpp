@@ -1,0 +1,68 @@
+#pragma once
+// ecpaird's composition for one controller: the validated settings, the
+// ENI, the links, the cyclic master with its cycle and receive threads, the
+// state machine that drives the slaves to the target state, the demo
+// application, and the control thread (Boost.Asio) with signals, link state
+// changes and event logging. design.md §4 names the threads.
+
+#include <memory>
+#include <optional>
+#include <thread>
+
+#include <utility>  // Boost 1.74 asio uses std::exchange without including it
+
+#include <boost/asio.hpp>
+
+#include "demo_application.hpp"
+#include "ecpair/config/daemon_settings.hpp"
+#include "ecpair/eni/model.hpp"
+#include "ecpair/link/link_state_monitor.hpp"
+#include "ecpair/link/pcap_link.hpp"
+#include "ecpair/master/cycle_thread.hpp"
+#include "ecpair/master/master.hpp"
+#include "ecpair/master/receive_thread.hpp"
+#include "ecpair/sequencer/master_state_machine.hpp"
+
+namespace ecpair::daemon {
+
+class Daemon {
+public:
+    // Exit codes of ecpaird.
+    static constexpr int kOk = 0;
+    static constexpr int kBadConfig = 2;
+    static constexpr int kLinkFailure = 3;
+
+    explicit Daemon(config::DaemonSettings settings);
+    ~Daemon();
+
+    // Opens everything; a non-zero exit code (and a logged reason) on failure.
+    int open();
+    // Runs until SIGINT/SIGTERM.
+    int run();
+
+private:
+    void start_threads();
+    void stop_threads();
+    void watch_links();
+    void pump_events();
+    std::chrono::microseconds cycle_time() const;
+
+    config::DaemonSettings settings_;
+    std::shared_ptr<const eni::EniConfig> eni_;
+    std::unique_ptr<link::PcapLink> main_link_;
+    std::unique_ptr<link::PcapLink> red_link_;
+    std::unique_ptr<link::LinkStateMonitor> link_monitor_;
+    master::EventQueue events_;
+    std::unique_ptr<master::Master> master_;
+    std::unique_ptr<DemoApplication> demo_;
+    std::unique_ptr<sequencer::MasterStateMachine> state_machine_;
+    std::unique_ptr<master::CycleThread> cycle_thread_;
+    std::vector<std::unique_ptr<master::ReceiveThread>> receive_threads_;
+
+    boost::asio::io_context io_;
+    std::optional<boost::asio::posix::stream_descriptor> link_fd_;
+    std::thread event_thread_;
+    std::atomic<bool> stopping_{false};
+};
+
+}  // namespace ecpair::daemon

@@ -1,0 +1,108 @@
+// ecpaird's configuration: defaults, every validated field named in its
+// error with the line it was written on, syntax errors located.
+
+#include <catch2/catch.hpp>
+
+#include "ecpair/config/daemon_settings.hpp"
+
+using ecpair::config::DemoKind;
+using ecpair::config::parse_daemon_settings;
+
+namespace {
+
+const char* kMinimal = R"(
+interfaces { main: "m1-main" }
+eni_path: "/etc/ecpair/line.xml"
+)";
+
+std::string error_of(const std::string& text) {
+    auto r = parse_daemon_settings(text, "test.textproto");
+    REQUIRE_FALSE(r);
+    return r.error().describe();
+}
+
+}  // namespace
+
+TEST_CASE("a minimal config gets the documented defaults", "[config]") {
+    auto s = parse_daemon_settings(kMinimal);
+    REQUIRE(s);
+    CHECK(s->name == "ecpaird");
+    CHECK(s->main_interface == "m1-main");
+    CHECK(s->red_interface.empty());
+    CHECK(s->cycle_time == std::chrono::microseconds(1000));
+    CHECK_FALSE(s->cycle_time_from_config);
+    CHECK(s->target_state == ecpair::eni::SlaveState::Op);
+    CHECK(s->demo == DemoKind::None);
+    CHECK(s->control_path == "/run/ecpair/ecpaird.sock");
+    CHECK(s->control_mode == 0660);
+    CHECK(s->max_acyclic_frames_per_cycle == 2);
+    CHECK(s->realtime_priority == 80);
+}
+
+TEST_CASE("a full config is read field by field", "[config]") {
+    auto s = parse_daemon_settings(R"(
+name: "m1"
+interfaces { main: "m1-main" red: "m1-red" }
+eni_path: "line.xml"
+cycle_time_us: 250
+cable_redundancy: true
+split_lrw: true
+target_state: SAFEOP
+demo { kind: LOOPBACK_CHECK step_cycles: 10 }
+control { path: "/tmp/m1.sock" mode: 0600 group: "ecpair" }
+max_acyclic_frames_per_cycle: 4
+realtime_priority: 0
+log_level: "debug"
+)");
+    REQUIRE(s);
+    CHECK(s->name == "m1");
+    CHECK(s->red_interface == "m1-red");
+    CHECK(s->cycle_time == std::chrono::microseconds(250));
+    CHECK(s->cycle_time_from_config);
+    CHECK(s->cable_redundancy);
+    CHECK(s->split_lrw);
+    CHECK(s->target_state == ecpair::eni::SlaveState::Safeop);
+    CHECK(s->demo == DemoKind::LoopbackCheck);
+    CHECK(s->demo_step_cycles == 10);
+    CHECK(s->control_path == "/tmp/m1.sock");
+    CHECK(s->control_mode == 0600);
+    CHECK(s->control_group == "ecpair");
+    CHECK(s->max_acyclic_frames_per_cycle == 4);
+    CHECK(s->realtime_priority == 0);
+    CHECK(s->log_level == "debug");
+}
+
+TEST_CASE("validation errors name the field and its line", "[config]") {
+    CHECK(error_of("eni_path: \"x.xml\"\n") == "test.textproto: interfaces.main: required (the adapter facing slave 1)");
+    CHECK(error_of("interfaces { main: \"a\" }\n") == "test.textproto: eni_path: required");
+    CHECK(error_of("interfaces { main: \"a\" }\neni_path: \"x\"\ncycle_time_us: 5\n") ==
+          "test.textproto:3:1: cycle_time_us: must be 100..100000 µs (got 5)");
+    CHECK(error_of("interfaces {\n  main: \"a\"\n  red: \"a\"\n}\neni_path: \"x\"\n") ==
+          "test.textproto:3:3: interfaces.red: must differ from interfaces.main ('a')");
+    CHECK(error_of("interfaces { main: \"a\" }\neni_path: \"x\"\ncable_redundancy: true\n") ==
+          "test.textproto:3:1: cable_redundancy: needs interfaces.red");
+    CHECK(error_of("interfaces { main: \"a\" }\neni_path: \"x\"\nsplit_lrw: true\n") ==
+          "test.textproto:3:1: split_lrw: only applies with cable_redundancy");
+    CHECK(error_of("interfaces { main: \"a\" }\neni_path: \"x\"\ncontrol { mode: 4095 }\n") ==
+          "test.textproto:3:11: control.mode: must be permission bits 0..0777 (got 7777)");
+    CHECK(error_of("interfaces { main: \"a\" }\neni_path: \"x\"\nlog_level: \"loud\"\n").find("log_level: 'loud' is not one of") !=
+          std::string::npos);
+    CHECK(error_of("interfaces { main: \"a\" }\neni_path: \"x\"\nmax_acyclic_frames_per_cycle: 0\n") ==
+          "test.textproto:3:1: max_acyclic_frames_per_cycle: must be 1..16 (got 0)");
+}
+
+TEST_CASE("syntax errors and unknown fields are located", "[config]") {
+    const auto unknown = error_of("interfaces { main: \"a\" }\ncycle_time: 5\n");
+    CHECK(unknown.rfind("test.textproto:2:", 0) == 0);
+    CHECK(unknown.find("cycle_time") != std::string::npos);
+    const auto syntax = error_of("interfaces { main: \"a\" \n");
+    CHECK(syntax.rfind("test.textproto:", 0) == 0);
+    const auto wrong_type = error_of("interfaces { main: \"a\" }\neni_path: \"x\"\ncycle_time_us: \"fast\"\n");
+    CHECK(wrong_type.rfind("test.textproto:3:", 0) == 0);
+}
+
+TEST_CASE("a missing file is named", "[config]") {
+    auto r = ecpair::config::load_daemon_settings("/nonexistent/ecpaird.textproto");
+    REQUIRE_FALSE(r);
+    CHECK(r.error().describe() == "/nonexistent/ecpaird.textproto: cannot open the file");
+}

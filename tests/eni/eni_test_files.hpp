@@ -1,0 +1,33 @@
+#pragma once
+// Paths of the ENI test files and a loader that fails the test with the
+// loader's own message when a file that must load does not.
+
+#include <memory>
+#include <string>
+
+#include <catch2/catch.hpp>
+
+#include "ecpair/eni/loader.hpp"
+
+namespace ecpair::eni::test {
+
+inline std::string real_eni(const std::string& name) {
+    return std::string(ECPAIR_TEST_ENI_DIR) + "/" + name;
+}
+
+inline std::string extra_eni(const std::string& name) {
+    return std::string(ECPAIR_TEST_DATA_DIR) + "/eni_extra/" + name;
+}
+
+inline std::string bad_eni(const std::string& name) {
+    return std::string(ECPAIR_TEST_DATA_DIR) + "/eni_bad/" + name;
+}
+
+inline std::shared_ptr<const EniConfig> must_load(const std::string& path) {
+    auto result = load_eni_file(path);
+    INFO((result ? std::string("loaded") : result.error().describe()));
+    REQUIRE(result.has_value());
+    return *result;
+}
+
+}  // namespace ecpair::eni::test

@@ -1,0 +1,79 @@
+// The control request grammar: every command, and every way to get it wrong.
+
+#include <catch2/catch.hpp>
+
+#include "ecpair/sim/control_protocol.hpp"
+
+using namespace ecpair::sim;
+
+namespace {
+
+ControlRequest parsed(std::string_view line) {
+    const auto request = parse_control_request(line);
+    if (!request) FAIL("'" << line << "' was refused: " << request.error().message);
+    return *request;
+}
+
+std::string refusal(std::string_view line) {
+    const auto request = parse_control_request(line);
+    if (request) FAIL("'" << line << "' was accepted");
+    return request.error().message;
+}
+
+}  // namespace
+
+TEST_CASE("every control command parses", "[control]") {
+    CHECK(parsed("status") == ControlRequest{ControlCommand::Status, 0, 0});
+    CHECK(parsed("help") == ControlRequest{ControlCommand::Help, 0, 0});
+    CHECK(parsed("power-off 3") == ControlRequest{ControlCommand::PowerOff, 3, 0});
+    CHECK(parsed("power-on 3") == ControlRequest{ControlCommand::PowerOn, 3, 0});
+    CHECK(parsed("break 0") == ControlRequest{ControlCommand::Break, 0, 0});
+    CHECK(parsed("repair 5") == ControlRequest{ControlCommand::Repair, 5, 0});
+    CHECK(parsed("insert-unknown 2") == ControlRequest{ControlCommand::InsertUnknown, 2, 0});
+    CHECK(parsed("remove-unknown 2") == ControlRequest{ControlCommand::RemoveUnknown, 2, 0});
+    CHECK(parsed("set-alias 4 4660") == ControlRequest{ControlCommand::SetAlias, 4, 4660});
+    CHECK(parsed("set-id 1 0xBEEF") == ControlRequest{ControlCommand::SetId, 1, 0xBEEF});
+}
+
+TEST_CASE("blanks and a trailing CR are tolerated", "[control]") {
+    CHECK(parsed("  break\t2  ") == ControlRequest{ControlCommand::Break, 2, 0});
+    CHECK(parsed("status\r") == ControlRequest{ControlCommand::Status, 0, 0});
+    CHECK(parsed("set-alias 1 0x0\r") == ControlRequest{ControlCommand::SetAlias, 1, 0});
+}
+
+TEST_CASE("bad requests are refused with a reason", "[control]") {
+    CHECK(refusal("") == "empty request (try 'help')");
+    CHECK(refusal("   ") == "empty request (try 'help')");
+    CHECK(refusal("reboot") == "unknown command 'reboot' (try 'help')");
+    CHECK(refusal("STATUS") == "unknown command 'STATUS' (try 'help')");
+    CHECK(refusal("power-off") == "power-off takes 1 argument, got 0: power-off K");
+    CHECK(refusal("status 1") == "status takes 0 arguments, got 1: status");
+    CHECK(refusal("set-id 1") == "set-id takes 2 arguments, got 1: set-id K VALUE");
+    CHECK(refusal("break 1 2 3") == "too many words in 'break 1 2 3'");
+    CHECK(refusal("break -1") == "break: K must be a decimal number in 0..65535, got '-1'");
+    CHECK(refusal("break 0x2") == "break: K must be a decimal number in 0..65535, got '0x2'");
+    CHECK(refusal("break 65536") == "break: K must be a decimal number in 0..65535, got '65536'");
+    CHECK(refusal("break 99999999999999999999") ==
+          "break: K must be a decimal number in 0..65535, got '99999999999999999999'");
+    CHECK(refusal("set-alias 1 0x10000") ==
+          "set-alias: VALUE must be a number in 0..65535 (decimal or 0x hex), got '0x10000'");
+    CHECK(refusal("set-alias 1 0x") == "set-alias: VALUE must be a number in 0..65535 (decimal or 0x hex), got '0x'");
+    CHECK(refusal("set-alias 1 12ab") ==
+          "set-alias: VALUE must be a number in 0..65535 (decimal or 0x hex), got '12ab'");
+}
+
+TEST_CASE("control characters are shown escaped and long lines refused", "[control]") {
+    CHECK(refusal(std::string_view("st\0tus", 6)) == "unknown command 'st\\x00tus' (try 'help')");
+    CHECK(refusal("break \x1b[2J") == "break: K must be a decimal number in 0..65535, got '\\x1b[2J'");
+    const std::string long_line(kMaxControlLineLength + 1, 'x');
+    CHECK(refusal(long_line) == "request is 257 characters long; the limit is 256");
+}
+
+TEST_CASE("responses stay on one line", "[control]") {
+    CHECK(control_ok() == "ok");
+    CHECK(control_ok("slave 1 powered off") == "ok slave 1 powered off");
+    CHECK(control_error("slave 2 is 'RDM\n'") == "error: slave 2 is 'RDM '");
+    const std::string usage = control_usage();
+    CHECK(usage.find('\n') == std::string::npos);
+    CHECK_THAT(usage, Catch::Contains("set-alias K VALUE") && Catch::Contains("insert-unknown K"));
+}

@@ -1,0 +1,195 @@
+// The real ecsim binary on veth cables (label netns, needs root): in a
+// fresh network namespace, ecsim's MAIN and RED interfaces are cabled to
+// probe interfaces in the same namespace. The test sends frames from the
+// probes with PcapLink, scripts faults with `ecsim ctl`, pulls the MAIN
+// cable with `ip link set down`, and reads the pcap file ecsim wrote.
+
+#include <catch2/catch.hpp>
+#include <pcap/pcap.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <sstream>
+#include <thread>
+
+#include "ecpair/link/pcap_link.hpp"
+#include "netns.hpp"
+#include "test_frames.hpp"
+
+using namespace ecpair;
+using namespace ecpair::test;
+using wire::Command;
+using wire::DatagramHeader;
+
+namespace {
+
+const std::string kEcsim = ECSIM_BINARY;
+// How long the test waits for ecsim before calling it a hang.
+constexpr std::chrono::seconds kHangGuard{10};
+
+struct TempDir {
+    TempDir() : path(std::filesystem::temp_directory_path() / ("ecsim-netns-test-" + std::to_string(::getpid()))) {
+        std::filesystem::create_directories(path);
+    }
+    ~TempDir() {
+        std::error_code ignored;
+        std::filesystem::remove_all(path, ignored);
+    }
+    std::filesystem::path path;
+};
+
+// ecsim running in a namespace with two probe cables, and the probes' links.
+class EcsimBench {
+public:
+    EcsimBench() : ns_("ecsim") {
+        ns_.create_veth("sim-main", "probe-main");
+        ns_.create_veth("sim-red", "probe-red");
+        ecsim_.emplace(std::vector<std::string>{kEcsim, "--eni",
+                                                std::string(ECPAIR_TEST_ENI_DIR) + "/twincat_kpierczy_5slaves.xml",
+                                                "--main-if", "sim-main", "--red-if", "sim-red", "--control",
+                                                control().string(), "--pcap", pcap().string(), "--log-level", "debug"},
+                       dir_.path / "ecsim.log", &ns_);
+        // Ready once the control socket exists (it is created last).
+        const auto give_up = std::chrono::steady_clock::now() + kHangGuard;
+        while (!std::filesystem::exists(control())) {
+            INFO(ecsim_->log());
+            REQUIRE(ecsim_->running());
+            REQUIRE(std::chrono::steady_clock::now() < give_up);
+            std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        }
+        link::PcapLinkOptions options;
+        options.bpf_filter = "ether proto 0x88a4";
+        NamespaceScope inside(ns_);
+        auto main_probe = link::PcapLink::open("probe-main", options);
+        auto red_probe = link::PcapLink::open("probe-red", options);
+        REQUIRE(main_probe);
+        REQUIRE(red_probe);
+        main_probe_ = std::move(main_probe).value();
+        red_probe_ = std::move(red_probe).value();
+    }
+
+    std::filesystem::path control() const { return dir_.path / "ecsim.sock"; }
+    std::filesystem::path pcap() const { return dir_.path / "ecsim.pcap"; }
+    const TestNamespace& ns() const { return ns_; }
+    ChildProcess& ecsim() { return *ecsim_; }
+    link::PcapLink& probe(bool main_side) { return main_side ? *main_probe_ : *red_probe_; }
+
+    // `ecsim ctl --control ... <request>`: its exit status and output line.
+    std::pair<int, std::string> ctl(const std::string& request) {
+        std::vector<std::string> argv{kEcsim, "ctl", "--control", control().string()};
+        std::istringstream words(request);
+        for (std::string word; words >> word;) argv.push_back(word);
+        ChildProcess client(argv, dir_.path / "ctl.log");
+        const auto status = client.wait_for_exit(kHangGuard);
+        REQUIRE(status);
+        std::string output = client.log();
+        if (!output.empty() && output.back() == '\n') output.pop_back();
+        return {*status, output};
+    }
+
+    void await_status(const std::string& text) {
+        const auto give_up = std::chrono::steady_clock::now() + kHangGuard;
+        while (ctl("status").second.find(text) == std::string::npos) {
+            REQUIRE(std::chrono::steady_clock::now() < give_up);
+            std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        }
+    }
+
+    // Sends a BRD of AL status on one probe and returns what arrives on `expected_main`'s probe.
+    TestFrame round_trip(bool from_main, bool expected_main) {
+        TestFrame frame = single(Command::Brd, DatagramHeader::physical(0, 0x0130), 2);
+        const auto sent = probe(from_main).send(frame.bytes());
+        INFO((sent ? std::string() : sent.error().message));
+        REQUIRE(sent);
+        ++frames_sent_;
+        TestFrame back;
+        const auto received = probe(expected_main).receive(back.buffer, kHangGuard);
+        REQUIRE(received);
+        INFO(ecsim_->log());
+        REQUIRE(received->has_value());
+        back.size = (*received)->size;
+        return back;
+    }
+
+    std::size_t frames_sent() const { return frames_sent_; }
+
+private:
+    TempDir dir_;
+    TestNamespace ns_;
+    std::optional<ChildProcess> ecsim_;
+    std::unique_ptr<link::PcapLink> main_probe_;
+    std::unique_ptr<link::PcapLink> red_probe_;
+    std::size_t frames_sent_ = 0;
+};
+
+std::size_t frames_in_pcap(const std::filesystem::path& file) {
+    char error[PCAP_ERRBUF_SIZE];
+    pcap_t* pcap = pcap_open_offline(file.c_str(), error);
+    INFO(error);
+    REQUIRE(pcap != nullptr);
+    std::size_t count = 0;
+    pcap_pkthdr* header = nullptr;
+    const u_char* data = nullptr;
+    while (pcap_next_ex(pcap, &header, &data) == 1) ++count;
+    pcap_close(pcap);
+    return count;
+}
+
+}  // namespace
+
+TEST_CASE("ecsim carries frames around its ring and out of the other side", "[netns][ecsim]") {
+    EcsimBench bench;
+    const TestFrame ring = bench.round_trip(/*from_main=*/true, /*expected_main=*/false);
+    CHECK(wkc_of(ring) == 5);
+    CHECK(ring.size == 60);
+    const TestFrame reverse = bench.round_trip(false, true);
+    CHECK(wkc_of(reverse) == 0);
+
+    CHECK(bench.ecsim().stop() == 0);
+    CHECK_THAT(bench.ecsim().log(), Catch::Contains("ecsim ready"));
+}
+
+TEST_CASE("faults scripted with ecsim ctl", "[netns][ecsim]") {
+    EcsimBench bench;
+    CHECK(bench.ctl("break 2") == std::make_pair(0, std::string("ok link after slave 2 broken")));
+    CHECK(wkc_of(bench.round_trip(true, true)) == 2);
+    const TestFrame red_half = bench.round_trip(false, false);
+    CHECK(wkc_of(red_half) == 3);
+    CHECK(header_of(red_half).circulating);
+
+    CHECK(bench.ctl("repair 2").first == 0);
+    CHECK(wkc_of(bench.round_trip(true, false)) == 5);
+
+    CHECK(bench.ctl("power-off 3") == std::make_pair(0, std::string("ok slave 3 powered off")));
+    CHECK(wkc_of(bench.round_trip(true, true)) == 2);
+    CHECK(wkc_of(bench.round_trip(false, false)) == 2);
+    CHECK(bench.ctl("power-on 3").first == 0);
+    CHECK(wkc_of(bench.round_trip(true, false)) == 5);
+
+    CHECK(bench.ctl("power-off 9") == std::make_pair(1, std::string("error: position 9 is out of range 1..5")));
+    CHECK(bench.ctl("frobnicate") ==
+          std::make_pair(1, std::string("error: unknown command 'frobnicate' (try 'help')")));
+}
+
+TEST_CASE("ecsim sees the MAIN cable pulled and the ring closes at slave 1", "[netns][ecsim]") {
+    EcsimBench bench;
+    bench.ns().set_link("probe-main", false);
+    bench.await_status("main=down");
+    CHECK_THAT(bench.ctl("status").second, Catch::Contains("| 1 name=") && Catch::Contains("ports=0:down/closed"));
+
+    const TestFrame back = bench.round_trip(false, false);
+    CHECK(wkc_of(back) == 5);
+    CHECK(header_of(back).circulating);
+
+    bench.ns().set_link("probe-main", true);
+    bench.await_status("main=up");
+    CHECK(wkc_of(bench.round_trip(true, false)) == 5);
+}
+
+TEST_CASE("ecsim --pcap records every frame in and out and flushes it at exit", "[netns][ecsim]") {
+    EcsimBench bench;
+    for (int i = 0; i < 3; ++i) CHECK(wkc_of(bench.round_trip(true, false)) == 5);
+    CHECK(bench.ecsim().stop() == 0);
+    REQUIRE(std::filesystem::exists(bench.pcap()));
+    CHECK(frames_in_pcap(bench.pcap()) == 2 * bench.frames_sent());
+}

@@ -1,0 +1,55 @@
+#include "segment_bus_access.hpp"
+
+#include <array>
+
+#include "ecpair/wire/frame.hpp"
+
+namespace ecpair::test {
+
+Expected<bus::DatagramReply, bus::BusError> SegmentBusAccess::exchange(const bus::DatagramRequest& request) {
+    std::lock_guard lock(mutex_);
+    if (refusal_) return unexpected(bus::BusError{*refusal_, std::string(bus::to_string(*refusal_))});
+    if (request.data.size() > wire::kMaxDatagramData) {
+        return unexpected(bus::BusError{bus::BusErrc::InvalidRequest, "datagram too long"});
+    }
+    std::array<std::uint8_t, wire::kMaxFrameSizeVlan> buffer{};
+    wire::EthernetHeader ethernet;
+    ethernet.destination = wire::MacAddress::broadcast();
+    ethernet.source = wire::MacAddress{{0x02, 0x00, 0x00, 0x00, 0x00, 0x01}};
+    wire::FrameBuilder builder(buffer, ethernet);
+    wire::DatagramHeader header;
+    header.command = request.command;
+    header.index = next_index_++;
+    header.address = request.address;
+    if (!builder.append(header, request.data)) {
+        return unexpected(bus::BusError{bus::BusErrc::InvalidRequest, "datagram does not fit a frame"});
+    }
+    std::size_t size = builder.finish().size();
+    now_ns_ += kTimePerFrameNs;
+    ++frames_;
+    const auto exit = segment_.carry(sim::Side::Main, buffer, size, now_ns_);
+    if (!exit) return unexpected(bus::BusError{bus::BusErrc::Timeout, "the frame died in the segment"});
+    auto view = wire::ConstFrameView::parse(std::span<const std::uint8_t>(buffer.data(), size));
+    if (!view || view->datagram_count() == 0) {
+        return unexpected(bus::BusError{bus::BusErrc::Timeout, "the frame came back unreadable"});
+    }
+    const auto datagram = *view->begin();
+    return bus::DatagramReply{{datagram.data().begin(), datagram.data().end()}, datagram.wkc()};
+}
+
+void SegmentBusAccess::refuse(std::optional<bus::BusErrc> reason) {
+    std::lock_guard lock(mutex_);
+    refusal_ = reason;
+}
+
+std::uint64_t SegmentBusAccess::frames() const {
+    std::lock_guard lock(mutex_);
+    return frames_;
+}
+
+void SegmentBusAccess::with_segment(const std::function<void(sim::Segment&)>& f) {
+    std::lock_guard lock(mutex_);
+    f(segment_);
+}
+
+}  // namespace ecpair::test
