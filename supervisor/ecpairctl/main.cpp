@@ -1,10 +1,11 @@
-// ecpairctl: the operator's command line for ecpair. Offline helpers for
-// now (validate an ENI, scan a bus); the daemon commands come with ecpaird.
+// ecpairctl: the operator's command line for ecpair: offline helpers
+// (validate an ENI, scan a bus) and the commands of a running ecpaird.
 
 #include <iostream>
 #include <string>
 #include <vector>
 
+#include "daemon_commands.hpp"
 #include "eni_command.hpp"
 #include "scan_command.hpp"
 
@@ -17,6 +18,10 @@ void print_usage(std::ostream& out) {
            "commands:\n"
            "  eni FILE                  validate and summarise an ENI file\n"
            "  scan --if IF [--eni FILE] scan the bus on interface IF (compare with an ENI)\n"
+           "  status [--variables N]    the state of a running ecpaird\n"
+           "  events [--for SECONDS]    watch a running ecpaird's events\n"
+           "  state STATE               ask ecpaird for INIT, PREOP, SAFEOP or OP\n"
+           "  (daemon commands take --socket PATH or --name NAME; default /run/ecpair/ecpaird.sock)\n"
            "  help                      this text\n";
 }
 
@@ -31,6 +36,9 @@ int main(int argc, char** argv) {
     const std::vector<std::string> args(argv + 2, argv + argc);
     if (command == "eni") return ecpair::ctl::run_eni_command(args, std::cout, std::cerr);
     if (command == "scan") return ecpair::ctl::run_scan_command(args, std::cout, std::cerr);
+    if (command == "status") return ecpair::ctl::run_status_command(args, std::cout, std::cerr);
+    if (command == "events" || command == "watch") return ecpair::ctl::run_events_command(args, std::cout, std::cerr);
+    if (command == "state") return ecpair::ctl::run_state_command(args, std::cout, std::cerr);
     if (command == "help" || command == "--help" || command == "-h") {
         print_usage(std::cout);
         return 0;

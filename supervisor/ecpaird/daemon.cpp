@@ -30,14 +30,7 @@ std::chrono::microseconds Daemon::cycle_time() const {
     return settings_.cycle_time;
 }
 
-int Daemon::open() {
-    auto eni = eni::load_eni_file(settings_.eni_path);
-    if (!eni) {
-        log()->error("{}", eni.error().describe());
-        return kBadConfig;
-    }
-    eni_ = *eni;
-
+int Daemon::open_links() {
     auto main = link::PcapLink::open(settings_.main_interface);
     if (!main) {
         log()->error("MAIN: {}", main.error().message);
@@ -60,6 +53,18 @@ int Daemon::open() {
         return kLinkFailure;
     }
     link_monitor_ = std::move(*monitor);
+    return kOk;
+}
+
+int Daemon::open() {
+    auto eni = eni::load_eni_file(settings_.eni_path);
+    if (!eni) {
+        log()->error("{}", eni.error().describe());
+        return kBadConfig;
+    }
+    eni_ = *eni;
+
+    if (const int rc = open_links(); rc != kOk) return rc;
 
     master::MasterOptions options;
     options.cycle_time = cycle_time();
@@ -68,7 +73,7 @@ int Daemon::open() {
     options.max_acyclic_frames_per_cycle = settings_.max_acyclic_frames_per_cycle;
     auto created = master::Master::create(eni_, options, *main_link_, red_link_.get(), events_);
     if (!created) {
-        log()->error("{}", *&created.error());
+        log()->error("{}", created.error());
         return kBadConfig;
     }
     master_ = std::move(*created);
@@ -90,6 +95,23 @@ int Daemon::open() {
         }
     };
     state_machine_ = std::make_unique<sequencer::MasterStateMachine>(eni_, master_->bus(), std::move(hooks), &events_);
+    slave_monitor_ = std::make_unique<sequencer::SlaveMonitor>(eni_, master_->bus(), master_->slaves(), &events_, [this] {
+        return master_->state() != eni::SlaveState::Init;  // station addresses are assigned from PREOP on
+    });
+
+    master::CycleThreadOptions cycle;
+    cycle.period = master_->options().cycle_time;
+    cycle.realtime_priority = settings_.realtime_priority;
+    cycle_thread_ = std::make_unique<master::CycleThread>(
+        cycle, [this](link::Clock::time_point deadline) { master_->run_cycle(deadline); });
+
+    operator_service_ = std::make_unique<OperatorService>(settings_, *master_, *state_machine_, *cycle_thread_, *demo_);
+    control_server_ = std::make_unique<control::ControlServer>(
+        io_, *operator_service_, control::SocketSettings{settings_.control_path, settings_.control_mode, settings_.control_group});
+    if (auto opened = control_server_->open(); !opened) {
+        log()->error("{}", opened.error());
+        return kBadConfig;
+    }
 
     log()->info("{}: ENI {} ({} slaves), MAIN {}{}, cycle {} µs, cable redundancy {}", settings_.name,
                 settings_.eni_path, eni_->slaves.size(), settings_.main_interface,
@@ -111,11 +133,6 @@ void Daemon::start_threads() {
     add_receiver(*main_link_, master::LinkRole::Main);
     if (red_link_) add_receiver(*red_link_, master::LinkRole::Red);
 
-    master::CycleThreadOptions cycle;
-    cycle.period = master_->options().cycle_time;
-    cycle.realtime_priority = settings_.realtime_priority;
-    cycle_thread_ = std::make_unique<master::CycleThread>(
-        cycle, [this](link::Clock::time_point deadline) { master_->run_cycle(deadline); });
     cycle_thread_->start();
 
     event_thread_ = std::thread([this] { pump_events(); });
@@ -123,6 +140,7 @@ void Daemon::start_threads() {
 
 void Daemon::stop_threads() {
     stopping_ = true;
+    slave_monitor_.reset();
     state_machine_.reset();  // cancels a running sequence (its requests fail when the cycle stops)
     if (cycle_thread_) cycle_thread_->stop();
     for (auto& r : receive_threads_) r->stop();
@@ -133,6 +151,7 @@ void Daemon::pump_events() {
     while (!stopping_.load()) {
         for (const auto& event : events_.pop_all(std::chrono::milliseconds(200))) {
             log()->info("event {}: {}", master::to_string(event.kind), master::describe(event));
+            boost::asio::post(io_, [this, message = to_message(event)] { control_server_->publish(message); });
         }
     }
 }

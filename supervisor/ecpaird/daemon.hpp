@@ -14,6 +14,7 @@
 #include <boost/asio.hpp>
 
 #include "demo_application.hpp"
+#include "ecpair/control/control_server.hpp"
 #include "ecpair/config/daemon_settings.hpp"
 #include "ecpair/eni/model.hpp"
 #include "ecpair/link/link_state_monitor.hpp"
@@ -22,6 +23,8 @@
 #include "ecpair/master/master.hpp"
 #include "ecpair/master/receive_thread.hpp"
 #include "ecpair/sequencer/master_state_machine.hpp"
+#include "ecpair/sequencer/slave_monitor.hpp"
+#include "operator_service.hpp"
 
 namespace ecpair::daemon {
 
@@ -46,6 +49,7 @@ private:
     void watch_links();
     void pump_events();
     std::chrono::microseconds cycle_time() const;
+    int open_links();
 
     config::DaemonSettings settings_;
     std::shared_ptr<const eni::EniConfig> eni_;
@@ -56,10 +60,13 @@ private:
     std::unique_ptr<master::Master> master_;
     std::unique_ptr<DemoApplication> demo_;
     std::unique_ptr<sequencer::MasterStateMachine> state_machine_;
+    std::unique_ptr<sequencer::SlaveMonitor> slave_monitor_;
     std::unique_ptr<master::CycleThread> cycle_thread_;
     std::vector<std::unique_ptr<master::ReceiveThread>> receive_threads_;
 
     boost::asio::io_context io_;
+    std::unique_ptr<OperatorService> operator_service_;
+    std::unique_ptr<control::ControlServer> control_server_;
     std::optional<boost::asio::posix::stream_descriptor> link_fd_;
     std::thread event_thread_;
     std::atomic<bool> stopping_{false};

@@ -1,3 +1,6 @@
+// One request, one frame: build it with the wire codec, let the segment
+// carry it from MAIN, read the datagram back (see the header).
+
 #include "segment_bus_access.hpp"
 
 #include <array>

@@ -80,7 +80,10 @@ Master::Master(std::shared_ptr<const eni::EniConfig> eni, const MasterOptions& o
       exchange_(std::move(plan)),
       image_(exchange_.plan().input_image_size, exchange_.plan().output_image_size, eni_->process_image),
       tracker_(wire::NicBytes::of(main.mac()), red ? wire::NicBytes::of(red->mac()) : wire::NicBytes{}),
-      acyclic_(options.max_acyclic_frames_per_cycle) {
+      acyclic_(options.max_acyclic_frames_per_cycle),
+      slaves_(eni_->slaves.size()) {
+    snapshot_.inputs.assign(image_.inputs().size(), 0);
+    snapshot_.outputs.assign(image_.outputs().size(), 0);
     in_flight_.reserve(256);
     sent_this_cycle_.reserve(256);
     mismatches_.reserve(64);
@@ -146,9 +149,27 @@ void Master::run_cycle(link::Clock::time_point now) {
     apply_requests();
     if (hook_) hook_(image_, CycleInfo{cycle_, state_.load(), inputs_valid_});
     if (sending_.load()) send_frames(now);
+    publish_snapshot();
     in_flight_.swap(sent_this_cycle_);
     sent_this_cycle_.clear();
     stats_.cycles.fetch_add(1, std::memory_order_relaxed);
+}
+
+void Master::publish_snapshot() {
+    // Readers copy out under this lock; rather than wait for one, the cycle
+    // skips publishing this time (the next cycle publishes again).
+    std::unique_lock lock(snapshot_mutex_, std::try_to_lock);
+    if (!lock.owns_lock()) return;
+    snapshot_.cycle = cycle_;
+    snapshot_.state = state_.load();
+    snapshot_.inputs_valid = inputs_valid_;
+    std::copy(image_.inputs().begin(), image_.inputs().end(), snapshot_.inputs.begin());
+    std::copy(image_.outputs().begin(), image_.outputs().end(), snapshot_.outputs.begin());
+}
+
+ImageSnapshot Master::snapshot() const {
+    std::lock_guard lock(snapshot_mutex_);
+    return snapshot_;
 }
 
 void Master::accept_returned_frames() {

@@ -24,7 +24,7 @@ std::uint64_t read_bits(ConstBytes bytes, std::uint32_t bit_offset, std::uint32_
     }
     for (std::uint32_t i = 0; i < bit_size; ++i) {
         const std::uint32_t bit = bit_offset + i;
-        if ((bytes[bit / 8] >> (bit % 8)) & 1u) value |= std::uint64_t{1} << i;
+        if ((static_cast<unsigned>(bytes[bit / 8]) >> (bit % 8)) & 1u) value |= std::uint64_t{1} << i;
     }
     return value;
 }

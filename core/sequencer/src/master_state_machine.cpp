@@ -145,12 +145,16 @@ void MasterStateMachine::finish(MasterState target, std::optional<SequenceError>
         std::lock_guard lock(mutex_);
         result.reached = current_;
         last_error_ = std::move(error);
+    }
+    const bool stopped = result.error && result.error->failure == SequenceFailure::Stopped;
+    if (!result.error) logger("sequencer")->info("master state {} reached", to_string(result.reached));
+    // The callback runs before the machine counts as idle, so wait_idle() also waits for it.
+    if (!stopped && hooks_.on_done) hooks_.on_done(result);
+    {
+        std::lock_guard lock(mutex_);
         running_ = false;
     }
     changed_.notify_all();
-    if (result.error && result.error->failure == SequenceFailure::Stopped) return;
-    if (!result.error) logger("sequencer")->info("master state {} reached", to_string(result.reached));
-    if (hooks_.on_done) hooks_.on_done(result);
 }
 
 std::optional<SequenceError> MasterStateMachine::run_transition(eni::Transition t, std::stop_token stop) {

@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <vector>
@@ -30,6 +31,7 @@
 #include "ecpair/master/frame_tracker.hpp"
 #include "ecpair/master/link_role.hpp"
 #include "ecpair/master/process_image.hpp"
+#include "ecpair/master/slave_state_image.hpp"
 
 namespace ecpair::master {
 
@@ -48,6 +50,15 @@ struct CycleInfo {
 
 enum class RingState : std::uint8_t { Unknown, Closed, Broken };
 std::string_view to_string(RingState state);
+
+// A copy of the process image as the cycle left it, for other threads.
+struct ImageSnapshot {
+    std::uint64_t cycle = 0;
+    eni::SlaveState state = eni::SlaveState::Init;
+    bool inputs_valid = false;
+    std::vector<std::uint8_t> inputs;
+    std::vector<std::uint8_t> outputs;
+};
 
 struct MasterStats {
     std::uint64_t cycles = 0;
@@ -91,7 +102,12 @@ public:
     // Slaves reachable from MAIN while the ring is broken (from the cyclic BRD), 0 when unknown.
     std::uint16_t reachable_from_main() const { return reachable_from_main_.load(); }
     MasterStats stats() const;
+    // The image of the last completed cycle (copied under a brief lock).
+    ImageSnapshot snapshot() const;
+    SlaveStateImage& slaves() { return slaves_; }
+    const SlaveStateImage& slaves() const { return slaves_; }
     const eni::EniConfig& eni() const { return *eni_; }
+    bool link_up(LinkRole role) const { return link_up_[static_cast<std::size_t>(role)].load(); }
     const MasterOptions& options() const { return options_; }
     const CyclicPlan& plan() const { return exchange_.plan(); }
     link::Link& link(LinkRole role) { return role == LinkRole::Main ? main_ : *red_; }
@@ -120,6 +136,7 @@ private:
     void send_frames(link::Clock::time_point now);
     void send_copies(FrameKind kind, std::uint16_t index, Bytes frame, std::uint8_t retry_index = 0);
     void raise(EventKind kind, std::uint32_t a = 0, std::uint32_t b = 0, std::uint32_t c = 0, std::uint32_t d = 0);
+    void publish_snapshot();
     bool use_red() const;
 
     std::shared_ptr<const eni::EniConfig> eni_;
@@ -135,6 +152,7 @@ private:
     std::array<FrameRing, 2> rx_rings_;
     CycleHook hook_;
     CycleExtension* extension_ = nullptr;
+    SlaveStateImage slaves_;
 
     // Cycle-thread state.
     std::uint64_t cycle_ = 0;
@@ -149,6 +167,8 @@ private:
     std::uint64_t foreign_reported_cycle_ = UINT64_MAX;
 
     // Shared with other threads.
+    mutable std::mutex snapshot_mutex_;  // the cycle only try_locks it
+    ImageSnapshot snapshot_;
     std::atomic<eni::SlaveState> state_{eni::SlaveState::Init};
     std::atomic<eni::SlaveState> requested_state_{eni::SlaveState::Init};
     std::atomic<bool> sending_{true};

@@ -104,7 +104,7 @@ public:
     std::optional<SequenceError> last_error() const;
     // Per EniConfig::slaves entry, from the last startup scan (all true before the first).
     std::vector<bool> presence() const;
-    // Waits until no sequence runs or `timeout` passes; true when idle.
+    // Waits until no sequence runs (its on_done included) or `timeout` passes; true when idle.
     bool wait_idle(std::chrono::milliseconds timeout) const;
 
 private:

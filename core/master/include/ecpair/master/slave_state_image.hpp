@@ -1,0 +1,51 @@
+#pragma once
+// What the master knows of each configured slave (ENI order): present or
+// absent, its last AL status and status code, its station address. The
+// state machine and the slave monitor write it, the operator API and the
+// redundancy (CMF, mirror) read it. Updates and snapshots are briefly locked.
+
+#include <cstdint>
+#include <mutex>
+#include <vector>
+
+namespace ecpair::master {
+
+struct SlaveStateEntry {
+    bool present = false;
+    std::uint8_t al_status = 0;        // 0x0130 low byte: state bits + error flag (0 = not read yet)
+    std::uint16_t al_status_code = 0;  // 0x0134
+    std::uint16_t station_address = 0;
+    friend bool operator==(const SlaveStateEntry&, const SlaveStateEntry&) = default;
+};
+
+class SlaveStateImage {
+public:
+    explicit SlaveStateImage(std::size_t slaves) : entries_(slaves) {}
+
+    std::size_t size() const { return entries_.size(); }
+    std::vector<SlaveStateEntry> snapshot() const {
+        std::lock_guard lock(mutex_);
+        return entries_;
+    }
+    SlaveStateEntry get(std::size_t index) const {
+        std::lock_guard lock(mutex_);
+        return entries_[index];
+    }
+    // Returns the previous entry.
+    SlaveStateEntry set(std::size_t index, const SlaveStateEntry& entry) {
+        std::lock_guard lock(mutex_);
+        const auto previous = entries_[index];
+        entries_[index] = entry;
+        return previous;
+    }
+    void assign(const std::vector<SlaveStateEntry>& entries) {
+        std::lock_guard lock(mutex_);
+        entries_ = entries;
+    }
+
+private:
+    mutable std::mutex mutex_;
+    std::vector<SlaveStateEntry> entries_;
+};
+
+}  // namespace ecpair::master

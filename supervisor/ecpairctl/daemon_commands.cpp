@@ -1,0 +1,179 @@
+#include "daemon_commands.hpp"
+
+#include <ostream>
+
+#include <boost/program_options.hpp>
+#include <fmt/format.h>
+#include <fmt/ostream.h>
+
+#include "ecpair/control/control_client.hpp"
+
+namespace ecpair::ctl {
+namespace {
+
+namespace po = boost::program_options;
+
+constexpr int kOk = 0;
+constexpr int kRefused = 1;
+constexpr int kUsage = 2;
+constexpr int kUnreachable = 3;
+
+struct Common {
+    std::string socket;
+    std::string name = "ecpaird";
+    std::string path() const { return socket.empty() ? fmt::format("/run/ecpair/{}.sock", name) : socket; }
+};
+
+void add_common(po::options_description& options, Common& common) {
+    options.add_options()
+        ("help,h", "this text")
+        ("socket,s", po::value(&common.socket), "operator socket of the daemon")
+        ("name,n", po::value(&common.name), "daemon name: the socket is /run/ecpair/NAME.sock (default ecpaird)");
+}
+
+// Parses `args`; nullopt when done (help printed) and an exit code otherwise.
+std::optional<int> parse(const std::vector<std::string>& args, po::options_description& options,
+                         const po::positional_options_description* positional, po::variables_map& vm,
+                         const std::string& usage, std::ostream& out, std::ostream& err) {
+    try {
+        auto parser = po::command_line_parser(args).options(options);
+        if (positional) parser.positional(*positional);
+        po::store(parser.run(), vm);
+        po::notify(vm);
+    } catch (const po::error& e) {
+        fmt::print(err, "ecpairctl: {}\nusage: {}\n{}", e.what(), usage, fmt::streamed(options));
+        return kUsage;
+    }
+    if (vm.count("help") != 0) {
+        fmt::print(out, "usage: {}\n{}", usage, fmt::streamed(options));
+        return kOk;
+    }
+    return std::nullopt;
+}
+
+std::string yes_no(bool b) { return b ? "up" : "DOWN"; }
+
+void print_status(std::ostream& out, const control::StatusReply& s) {
+    fmt::print(out, "{}: master {} (target {}), cycle {} µs\n", s.name(), s.master_state(), s.target_state(),
+               s.cycle_time_us());
+    if (!s.sequence_error().empty()) fmt::print(out, "  state machine stopped: {}\n", s.sequence_error());
+    fmt::print(out, "  links: MAIN {}, RED {}; ring {}{}\n", yes_no(s.main_link_up()), yes_no(s.red_link_up()),
+               s.ring_state(),
+               s.ring_state() == "broken" && s.reachable_from_main() > 0
+                   ? fmt::format(" after slave {}", s.reachable_from_main())
+                   : std::string());
+    const auto& t = s.timing();
+    fmt::print(out, "  cycles {} ({} late, {} skipped; wake-up latency p50 {:.0f} µs, p99 {:.0f} µs, max {:.0f} µs{})\n",
+               t.cycles(), t.late(), t.skipped(), t.wake_latency_p50_us(), t.wake_latency_p99_us(),
+               t.wake_latency_max_us(), t.realtime() ? ", SCHED_FIFO" : "");
+    const auto& c = s.counters();
+    fmt::print(out, "  frames sent {}, lost {}, late copies {}, incomplete cycles {}, WKC errors {}, foreign {}\n",
+               c.frames_sent(), c.frames_lost(), c.late_copies(), c.cycles_incomplete(), c.wkc_errors(),
+               c.foreign_frames());
+    if (s.loopback().cycles_checked() > 0) {
+        fmt::print(out, "  loopback check: {} cycles, {} slave checks, {} mismatches\n", s.loopback().cycles_checked(),
+                   s.loopback().slave_checks(), s.loopback().mismatches());
+    }
+    fmt::print(out, "  {:>3}  {:<7}  {:<8}  {:<11}  {}\n", "POS", "STATION", "PRESENT", "STATE", "NAME");
+    for (const auto& slave : s.slaves()) {
+        fmt::print(out, "  {:>3}  {:<7}  {:<8}  {:<11}  {}{}\n", slave.position(), slave.station_address(),
+                   slave.present() ? "yes" : "no", slave.al_state(), slave.name(),
+                   slave.al_status_code() != 0 ? fmt::format(" (AL status code 0x{:04x})", slave.al_status_code())
+                                               : std::string());
+    }
+    auto variables = [&out](const char* title, const auto& list) {
+        if (list.empty()) return;
+        fmt::print(out, "  {}:\n", title);
+        for (const auto& v : list) fmt::print(out, "    {:<48} 0x{:0{}x}\n", v.name(), v.value(), (v.bit_size() + 3) / 4);
+    };
+    variables("inputs", s.inputs());
+    variables("outputs", s.outputs());
+}
+
+}  // namespace
+
+int run_status_command(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
+    Common common;
+    std::uint32_t variables = 0;
+    po::options_description options("ecpairctl status options");
+    add_common(options, common);
+    options.add_options()("variables", po::value(&variables), "show the first N input and output variables");
+    po::variables_map vm;
+    if (auto rc = parse(args, options, nullptr, vm, "ecpairctl status [--socket PATH] [--variables N]", out, err)) return *rc;
+
+    control::Request request;
+    request.mutable_status()->set_max_variables(variables);
+    auto response = control::call(common.path(), request);
+    if (!response) {
+        fmt::print(err, "ecpairctl: {}\n", response.error().message);
+        return kUnreachable;
+    }
+    if (!response->ok()) {
+        fmt::print(err, "ecpairctl: {}\n", response->error());
+        return kRefused;
+    }
+    print_status(out, response->status());
+    return kOk;
+}
+
+int run_events_command(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
+    Common common;
+    double seconds = 0;
+    po::options_description options("ecpairctl events options");
+    add_common(options, common);
+    options.add_options()("for", po::value(&seconds), "stop after SECONDS (default: until interrupted)");
+    po::variables_map vm;
+    if (auto rc = parse(args, options, nullptr, vm, "ecpairctl events [--socket PATH] [--for SECONDS]", out, err)) return *rc;
+
+    control::Request request;
+    request.mutable_watch_events();
+    bool refused = false;
+    auto streamed = control::stream(
+        common.path(), request,
+        [&](const control::Response& r) {
+            if (!r.ok()) {
+                fmt::print(err, "ecpairctl: {}\n", r.error());
+                refused = true;
+                return false;
+            }
+            if (r.has_event()) {
+                fmt::print(out, "{} {}\n", r.event().kind(), r.event().text());
+                out.flush();
+            }
+            return true;
+        },
+        std::chrono::milliseconds(static_cast<std::int64_t>(seconds * 1000)));
+    if (!streamed) {
+        fmt::print(err, "ecpairctl: {}\n", streamed.error().message);
+        return kUnreachable;
+    }
+    return refused ? kRefused : kOk;
+}
+
+int run_state_command(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
+    Common common;
+    std::string state;
+    po::options_description options("ecpairctl state options");
+    add_common(options, common);
+    options.add_options()("state", po::value(&state)->required(), "INIT, PREOP, SAFEOP or OP");
+    po::positional_options_description positional;
+    positional.add("state", 1);
+    po::variables_map vm;
+    if (auto rc = parse(args, options, &positional, vm, "ecpairctl state [--socket PATH] STATE", out, err)) return *rc;
+
+    control::Request request;
+    request.mutable_set_master_state()->set_state(state);
+    auto response = control::call(common.path(), request);
+    if (!response) {
+        fmt::print(err, "ecpairctl: {}\n", response.error().message);
+        return kUnreachable;
+    }
+    if (!response->ok()) {
+        fmt::print(err, "ecpairctl: {}\n", response->error());
+        return kRefused;
+    }
+    fmt::print(out, "master state {} requested\n", state);
+    return kOk;
+}
+
+}  // namespace ecpair::ctl

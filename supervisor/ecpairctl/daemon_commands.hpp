@@ -1,0 +1,22 @@
+#pragma once
+// ecpairctl commands that talk to a running ecpaird over its operator socket:
+//   status [--variables N]   a readable table of the daemon's state
+//   events [--for SECONDS]   the event stream (watch)
+//   state STATE              ask for INIT, PREOP, SAFEOP or OP
+// Every command takes --socket PATH (default /run/ecpair/<--name>.sock,
+// --name defaulting to "ecpaird").
+//
+// Exit codes: 0 done, 1 the daemon refused the request, 2 bad arguments,
+// 3 the daemon cannot be reached.
+
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+namespace ecpair::ctl {
+
+int run_status_command(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
+int run_events_command(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
+int run_state_command(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
+
+}  // namespace ecpair::ctl

@@ -1,0 +1,111 @@
+#include "operator_service.hpp"
+
+#include <algorithm>
+
+#include "ecpair/wire/al_status.hpp"
+
+namespace ecpair::daemon {
+namespace {
+
+void add_variables(const master::ProcessImage& layout, master::ImageSection section, ConstBytes bytes,
+                   std::uint32_t limit, google::protobuf::RepeatedPtrField<control::VariableValue>& out) {
+    for (const auto& ref : layout.variables(section)) {
+        if (static_cast<std::uint32_t>(out.size()) >= limit) return;
+        if ((ref.bit_offset + ref.bit_size + 7) / 8 > bytes.size()) continue;
+        auto* v = out.Add();
+        v->set_name(ref.variable->name);
+        v->set_bit_size(ref.bit_size);
+        v->set_value(master::read_bits(bytes, ref.bit_offset, ref.bit_size));
+    }
+}
+
+}  // namespace
+
+control::StatusReply OperatorService::status(const control::StatusRequest& request) {
+    control::StatusReply reply;
+    reply.set_name(settings_.name);
+    reply.set_master_state(std::string(eni::to_string(master_.state())));
+    reply.set_target_state(std::string(sequencer::to_string(state_machine_.target())));
+    if (const auto error = state_machine_.last_error()) reply.set_sequence_error(error->message);
+    reply.set_ring_state(std::string(master::to_string(master_.ring_state())));
+    reply.set_reachable_from_main(master_.reachable_from_main());
+    reply.set_main_link_up(master_.link_up(master::LinkRole::Main));
+    reply.set_red_link_up(master_.has_red() && master_.link_up(master::LinkRole::Red));
+    reply.set_cycle_time_us(static_cast<std::uint32_t>(
+        std::chrono::duration_cast<std::chrono::microseconds>(master_.options().cycle_time).count()));
+
+    const auto timing = cycle_thread_.timing();
+    auto* t = reply.mutable_timing();
+    t->set_cycles(timing.cycles);
+    t->set_late(timing.late);
+    t->set_skipped(timing.skipped);
+    t->set_wake_latency_p50_us(timing.latency_percentile_us(50.0));
+    t->set_wake_latency_p99_us(timing.latency_percentile_us(99.0));
+    t->set_wake_latency_max_us(static_cast<double>(timing.max_wake_latency.count()) / 1000.0);
+    t->set_realtime(timing.realtime);
+
+    const auto stats = master_.stats();
+    auto* c = reply.mutable_counters();
+    c->set_frames_sent(stats.frames_sent);
+    c->set_frames_lost(stats.frames_lost);
+    c->set_late_copies(stats.late_frames);
+    c->set_cycles_incomplete(stats.cycles_incomplete);
+    c->set_wkc_errors(stats.wkc_errors);
+    c->set_foreign_frames(stats.foreign_frames);
+    c->set_send_errors(stats.send_errors);
+
+    const auto slaves = master_.slaves().snapshot();
+    const auto& configured = master_.eni().slaves;
+    for (std::size_t i = 0; i < configured.size(); ++i) {
+        auto* s = reply.add_slaves();
+        s->set_position(static_cast<std::uint32_t>(i));
+        s->set_name(configured[i].info.name);
+        s->set_station_address(configured[i].info.phys_addr);
+        s->set_present(slaves[i].present);
+        s->set_al_state(slaves[i].al_status == 0 ? std::string("?")
+                                                 : wire::AlStatus{slaves[i].al_status}.to_string());
+        s->set_al_status_code(slaves[i].al_status_code);
+    }
+
+    if (request.max_variables() > 0) {
+        const auto snapshot = master_.snapshot();
+        add_variables(master_.image(), master::ImageSection::Inputs, snapshot.inputs, request.max_variables(),
+                      *reply.mutable_inputs());
+        add_variables(master_.image(), master::ImageSection::Outputs, snapshot.outputs, request.max_variables(),
+                      *reply.mutable_outputs());
+    }
+    const auto loop = demo_.stats();
+    auto* l = reply.mutable_loopback();
+    l->set_cycles_checked(loop.cycles_checked);
+    l->set_slave_checks(loop.slaves_checked);
+    l->set_mismatches(loop.mismatches);
+    return reply;
+}
+
+std::optional<std::string> OperatorService::set_master_state(const control::SetMasterStateRequest& request) {
+    std::string name = request.state();
+    std::transform(name.begin(), name.end(), name.begin(), [](unsigned char c) { return static_cast<char>(std::toupper(c)); });
+    static const std::pair<const char*, sequencer::MasterState> kStates[] = {
+        {"INIT", sequencer::MasterState::Init},
+        {"PREOP", sequencer::MasterState::Preop},
+        {"SAFEOP", sequencer::MasterState::Safeop},
+        {"OP", sequencer::MasterState::Op}};
+    for (const auto& [text, state] : kStates) {
+        if (name == text) {
+            state_machine_.request(state);
+            return std::nullopt;
+        }
+    }
+    return "state: '" + request.state() + "' is not one of INIT, PREOP, SAFEOP, OP";
+}
+
+control::EventMessage to_message(const master::Event& event) {
+    control::EventMessage m;
+    m.set_cycle(event.cycle);
+    m.set_kind(std::string(master::to_string(event.kind)));
+    m.set_text(master::describe(event));
+    m.set_unix_time_ms(std::chrono::duration_cast<std::chrono::milliseconds>(event.time.time_since_epoch()).count());
+    return m;
+}
+
+}  // namespace ecpair::daemon

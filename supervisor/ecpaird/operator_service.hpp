@@ -1,0 +1,38 @@
+#pragma once
+// Answers the operator API (control.proto) for one ecpaird: the status view
+// (states, ring, links, cycle timing, frame counters, slaves, a few process
+// image variables, the demo's loopback check) and master state requests.
+
+#include <string>
+
+#include "demo_application.hpp"
+#include "ecpair/config/daemon_settings.hpp"
+#include "ecpair/control/control_server.hpp"
+#include "ecpair/master/cycle_thread.hpp"
+#include "ecpair/master/master.hpp"
+#include "ecpair/sequencer/master_state_machine.hpp"
+
+namespace ecpair::daemon {
+
+class OperatorService final : public control::ControlHandler {
+public:
+    OperatorService(const config::DaemonSettings& settings, master::Master& master,
+                    sequencer::MasterStateMachine& state_machine, const master::CycleThread& cycle_thread,
+                    const DemoApplication& demo)
+        : settings_(settings), master_(master), state_machine_(state_machine), cycle_thread_(cycle_thread), demo_(demo) {}
+
+    control::StatusReply status(const control::StatusRequest& request) override;
+    std::optional<std::string> set_master_state(const control::SetMasterStateRequest& request) override;
+
+private:
+    const config::DaemonSettings& settings_;
+    master::Master& master_;
+    sequencer::MasterStateMachine& state_machine_;
+    const master::CycleThread& cycle_thread_;
+    const DemoApplication& demo_;
+};
+
+// The event as the operator API carries it.
+control::EventMessage to_message(const master::Event& event);
+
+}  // namespace ecpair::daemon

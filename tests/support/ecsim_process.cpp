@@ -1,0 +1,55 @@
+#include "ecsim_process.hpp"
+
+#include <chrono>
+#include <sstream>
+#include <stdexcept>
+#include <thread>
+
+namespace ecpair::test {
+namespace {
+
+// How long a program may take to come up before the test calls it a hang.
+constexpr std::chrono::seconds kStartGuard{10};
+
+}  // namespace
+
+std::string ecsim_binary() { return ECPAIR_ECSIM_BINARY; }
+std::string ecpaird_binary() { return ECPAIR_ECPAIRD_BINARY; }
+std::string ecpairctl_binary() { return ECPAIR_ECPAIRCTL_BINARY; }
+
+EcsimProcess::EcsimProcess(const TestNamespace& ns, EcsimSettings settings) : settings_(std::move(settings)) {
+    std::vector<std::string> argv{ecsim_binary(),   "--eni",       settings_.eni.string(), "--main-if",
+                                  settings_.main_if, "--control",  control().string(),     "--pcap",
+                                  pcap().string(),   "--log-level", "debug"};
+    if (settings_.red_if) {
+        argv.push_back("--red-if");
+        argv.push_back(*settings_.red_if);
+    }
+    if (settings_.realtime_priority > 0) {
+        argv.push_back("--realtime-priority");
+        argv.push_back(std::to_string(settings_.realtime_priority));
+    }
+    process_.emplace(argv, settings_.dir / "ecsim.log", &ns);
+    const auto give_up = std::chrono::steady_clock::now() + kStartGuard;
+    while (!std::filesystem::exists(control())) {
+        if (!process_->running() || std::chrono::steady_clock::now() > give_up) {
+            throw std::runtime_error("ecsim did not come up:\n" + process_->log());
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+}
+
+std::pair<int, std::string> EcsimProcess::ctl(const std::string& request) const {
+    std::vector<std::string> argv{ecsim_binary(), "ctl", "--control", control().string()};
+    std::istringstream words(request);
+    for (std::string word; words >> word;) argv.push_back(word);
+    ChildProcess client(argv, settings_.dir / "ecsim-ctl.log");
+    const auto status = client.wait_for_exit(kStartGuard);
+    std::string output = client.log();
+    while (!output.empty() && output.back() == '\n') output.pop_back();
+    return {status.value_or(-1), output};
+}
+
+int EcsimProcess::stop() { return process_->stop(); }
+
+}  // namespace ecpair::test
