@@ -47,7 +47,7 @@ void DemoApplication::on_cycle(master::ProcessImage& image, const master::CycleI
     if (kind_ == config::DemoKind::None) return;
     // The inputs of this cycle answer the outputs of the previous one(s): check first, then write new outputs.
     if (kind_ == config::DemoKind::LoopbackCheck && info.state == eni::SlaveState::Op && info.inputs_valid &&
-        !previous_outputs_.empty()) {
+        previous_inputs_valid_ && !previous_outputs_.empty()) {
         ++stats_.cycles_checked;
         for (const auto& check : checks_) {
             ++stats_.slaves_checked;
@@ -56,6 +56,7 @@ void DemoApplication::on_cycle(master::ProcessImage& image, const master::CycleI
             }
         }
     }
+    previous_inputs_valid_ = info.inputs_valid;
     previous_outputs_.assign(image.outputs().begin(), image.outputs().end());
     write_outputs(image, info.cycle);
 }

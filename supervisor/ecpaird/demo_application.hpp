@@ -8,7 +8,9 @@
 //    echo its outputs the way ecsim's slaves do it (inputs[0..1] are a
 //    counter, inputs[2..] a copy of the outputs; see docs/ESC_EMULATION.md).
 //    The echo may lag one cycle (LRW reads before it writes), so the
-//    current and the previous outputs are both accepted.
+//    current and the previous outputs are both accepted; a cycle is only
+//    checked when the one before it was complete too (after a lost frame the
+//    slaves echo older outputs, which is no error of the data path).
 
 #include <cstdint>
 #include <vector>
@@ -52,6 +54,7 @@ private:
     std::vector<SlaveArea> outputs_;
     std::vector<LoopbackCheck> checks_;
     std::vector<std::uint8_t> previous_outputs_;
+    bool previous_inputs_valid_ = false;
     LoopbackStats stats_;
 };
 

@@ -28,7 +28,7 @@ control::StatusReply OperatorService::status(const control::StatusRequest& reque
     reply.set_target_state(std::string(sequencer::to_string(state_machine_.target())));
     if (const auto error = state_machine_.last_error()) reply.set_sequence_error(error->message);
     reply.set_ring_state(std::string(master::to_string(master_.ring_state())));
-    reply.set_reachable_from_main(master_.reachable_from_main());
+    reply.set_reachable_from_main(master_.reachable_from_main().value_or(0));
     reply.set_main_link_up(master_.link_up(master::LinkRole::Main));
     reply.set_red_link_up(master_.has_red() && master_.link_up(master::LinkRole::Red));
     reply.set_cycle_time_us(static_cast<std::uint32_t>(

@@ -60,6 +60,23 @@ Bytes CyclicExchange::build(std::size_t index, eni::SlaveState state, ConstBytes
     return builder.finish();
 }
 
+bool CyclicExchange::counters_complete(std::size_t index, const wire::ConstFrameView& returned) const {
+    const auto slot = last_state_slot_[index];
+    if (slot >= 3) return false;
+    const auto& list = active_[index][slot];
+    const auto& datagrams = plan_.frames[index].datagrams;
+    if (returned.datagram_count() != list.size()) return false;
+    bool any = false;
+    std::size_t i = 0;
+    for (const auto d : returned) {
+        const PlannedDatagram& planned = datagrams[list[i++]];
+        if (!planned.expected_wkc) continue;
+        if (d.wkc() != *planned.expected_wkc) return false;
+        any = true;
+    }
+    return any;
+}
+
 FrameCompletion CyclicExchange::complete(std::size_t index, const wire::ConstFrameView& returned, Bytes inputs,
                                          std::vector<WkcMismatch>& mismatches) {
     FrameCompletion result;

@@ -89,18 +89,6 @@ Master::Master(std::shared_ptr<const eni::EniConfig> eni, const MasterOptions& o
     mismatches_.reserve(64);
     link_up_[0].store(main.link_up());
     link_up_[1].store(red != nullptr && red->link_up());
-    const auto& frames = exchange_.plan().frames;
-    for (std::size_t f = 0; f < frames.size() && !al_status_frame_; ++f) {
-        for (std::size_t d = 0; d < frames[f].datagrams.size(); ++d) {
-            const auto& planned = frames[f].datagrams[d];
-            if (planned.command == wire::Command::Brd &&
-                wire::DatagramHeader{planned.command, 0, planned.address}.ado() == wire::reg::kAlStatus) {
-                al_status_frame_ = f;
-                al_status_datagram_ = d;
-                break;
-            }
-        }
-    }
     logger("master")->info("master on {}{}: {} cyclic frame(s), {} datagram(s), {} ({} in / {} out bytes)",
                            main.name(), red ? fmt::format(" + {}", red->name()) : std::string(),
                            exchange_.frame_count(), exchange_.plan().datagram_count(),
@@ -191,6 +179,7 @@ void Master::accept_returned_frames() {
 
 void Master::complete_previous_cycle(link::Clock::time_point now) {
     bool any_cyclic = false;
+    bool any_returned = false;
     bool all_complete = true;
     bool ring_closed = false;
     bool ring_broken = false;
@@ -215,15 +204,19 @@ void Master::complete_previous_cycle(link::Clock::time_point now) {
             auto parsed = wire::ConstFrameView::parse(ConstBytes(merged_.data(), merged->size));
             if (parsed) view = *parsed;
         }
-        // A frame counts only when it equals one pass through the whole ring:
-        // an unprocessed RED copy alone, or one side of a break alone, would
-        // put stale zeros into the inputs. Such a frame is lost for this cycle
-        // (acyclic requests go out again).
-        const bool complete =
-            view.has_value() && (f.sent_red ? merged->complete : main_copy.path != CopyPath::Missing);
+        const bool complete = view.has_value() && is_complete(f, main_copy, red_copy, *merged, *view);
         if (merged) {
+            any_returned = true;
             ring_closed = ring_closed || merged->ring_closed;
             ring_broken = ring_broken || merged->ring_broken;
+        }
+        if (main_copy.path == CopyPath::BouncedMain) {
+            // A BRD's WKC in a MAIN copy that bounced counts the slaves before the break.
+            if (auto own = wire::ConstFrameView::parse(main_copy.frame)) {
+                for (const auto d : *own) {
+                    if (d.command() == wire::Command::Brd) reachable = d.wkc();
+                }
+            }
         }
         if (!complete) {
             stats_.frames_lost.fetch_add(1, std::memory_order_relaxed);
@@ -240,14 +233,6 @@ void Master::complete_previous_cycle(link::Clock::time_point now) {
             acyclic_.complete(f.index, &*view, now);
             continue;
         }
-        if (al_status_frame_ && f.index == *al_status_frame_ && main_copy.path == CopyPath::BouncedMain) {
-            // The BRD's WKC in the MAIN copy counts the slaves before the break.
-            if (auto own = wire::ConstFrameView::parse(main_copy.frame)) {
-                for (const auto d : *own) {
-                    if (d.index() == *al_status_datagram_ && d.command() == wire::Command::Brd) reachable = d.wkc();
-                }
-            }
-        }
         const auto result = exchange_.complete(f.index, *view, image_.inputs(), mismatches_);
         if (!result.layout_ok) all_complete = false;
         stats_.wkc_errors.fetch_add(result.wkc_errors, std::memory_order_relaxed);
@@ -261,23 +246,45 @@ void Master::complete_previous_cycle(link::Clock::time_point now) {
     }
     inputs_valid_ = any_cyclic && all_complete && mismatches_.empty();
     if (any_cyclic && !all_complete) stats_.cycles_incomplete.fetch_add(1, std::memory_order_relaxed);
-    if (use_red() && any_cyclic) observe_ring(ring_closed, ring_broken, reachable);
+    if (use_red() && any_returned) observe_ring(ring_closed, ring_broken, reachable);
+}
+
+// A frame counts only when it equals one pass through the whole ring: an
+// unprocessed RED copy alone, or one side of a break alone, would put stale
+// zeros into the inputs. Such a frame is lost for its cycle (acyclic
+// requests go out again).
+bool Master::is_complete(const InFlight& f, const ReturnedCopy& main_copy, const ReturnedCopy& red_copy,
+                         const MergeResult& merged, const wire::ConstFrameView& view) const {
+    if (f.sent_main && f.sent_red) {
+        if (merged.complete) return true;
+        // One copy bounced and the other vanished: the break sits right at a
+        // master cable, so the bounced copy may still have passed every slave.
+        // The working counters the ENI expects decide.
+        return f.kind == FrameKind::Cyclic && (main_copy.path == CopyPath::BouncedMain || red_copy.path == CopyPath::BouncedRed) &&
+               exchange_.counters_complete(f.index, view);
+    }
+    // Only one adapter could send: its copy came back processed on the same side.
+    if (f.sent_main) return main_copy.path != CopyPath::Missing;
+    if (f.sent_red) return red_copy.path == CopyPath::BouncedRed;
+    return false;
 }
 
 void Master::observe_ring(bool closed, bool broken, std::optional<std::uint16_t> reachable) {
     const RingState previous = ring_state_.load();
     const RingState now = broken ? RingState::Broken : closed ? RingState::Closed : previous;
-    if (reachable) reachable_from_main_.store(*reachable);
+    if (now == RingState::Broken && reachable) reachable_from_main_.store(*reachable);
     if (now == previous) return;
     ring_state_.store(now);
     if (now == RingState::Broken) {
-        if (!reachable) reachable_from_main_.store(0);
+        if (!reachable) reachable_from_main_.store(kReachableUnknown);
         logger("master")->warn("line break{}", reachable ? fmt::format(" after slave {}", *reachable) : std::string());
         raise(EventKind::LineBreak, reachable.value_or(0), reachable ? 1 : 0);
-    } else if (previous == RingState::Broken) {
-        reachable_from_main_.store(0);
-        logger("master")->info("line repaired: ring closed");
-        raise(EventKind::LineRepaired);
+    } else {
+        reachable_from_main_.store(kReachableUnknown);
+        if (previous == RingState::Broken) {
+            logger("master")->info("line repaired: ring closed");
+            raise(EventKind::LineRepaired);
+        }
     }
 }
 
@@ -317,35 +324,50 @@ void Master::send_frames(link::Clock::time_point now) {
     }
 }
 
+// Auto-increment addresses count slaves from where a frame is first
+// processed. In a closed ring the RED copy is processed by nobody, so it may
+// carry them as they are; beyond a break it is processed from the first
+// slave after the break on, so its addresses are shifted by the number of
+// slaves before the break. While that number is unknown the RED copy of such
+// a frame is not sent (it would address the wrong slaves).
+bool Master::prepare_red_copy(FrameKind kind, Bytes frame) const {
+    if (kind != FrameKind::Acyclic) return true;
+    auto view = wire::FrameView::parse(frame);
+    if (!view) return false;
+    const auto has_auto_increment = std::any_of(view->begin(), view->end(), [](const auto& d) {
+        return wire::addressing_of(d.command()) == wire::Addressing::AutoIncrement;
+    });
+    if (!has_auto_increment) return true;
+    const RingState ring = ring_state_.load();
+    if (ring == RingState::Closed) return true;
+    const auto reachable = reachable_from_main_.load();
+    if (ring == RingState::Unknown || reachable == kReachableUnknown) return false;
+    for (auto d : *view) {
+        if (wire::addressing_of(d.command()) != wire::Addressing::AutoIncrement) continue;
+        const auto h = d.header();
+        d.set_address(wire::DatagramHeader::physical(static_cast<std::uint16_t>(h.adp() + reachable), h.ado()));
+    }
+    return true;
+}
+
 void Master::send_copies(FrameKind kind, std::uint16_t index, Bytes frame, std::uint8_t retry_index) {
     const std::uint8_t id = tracker_.open(kind, index, cycle_);
     auto set_source = [&](LinkRole role) {
         const auto mac = tracker_.source_mac(id, role, retry_index);
         std::copy(mac.bytes.begin(), mac.bytes.end(), frame.begin() + 6);
     };
-    if (link_up_[0].load()) {
+    const bool sent_main = link_up_[0].load();
+    if (sent_main) {
         set_source(LinkRole::Main);
         if (!main_.send(frame)) stats_.send_errors.fetch_add(1, std::memory_order_relaxed);
     }
     bool sent_red = false;
-    if (use_red() && link_up_[1].load()) {
+    if (use_red() && link_up_[1].load() && prepare_red_copy(kind, frame)) {
         set_source(LinkRole::Red);
-        const auto reachable = reachable_from_main_.load();
-        if (kind == FrameKind::Acyclic && ring_state_.load() == RingState::Broken && reachable > 0) {
-            // Beyond a break the RED copy meets slave `reachable` first: shift
-            // auto-increment addresses so they name the same slaves as on MAIN.
-            if (auto view = wire::FrameView::parse(frame)) {
-                for (auto d : *view) {
-                    if (wire::addressing_of(d.command()) != wire::Addressing::AutoIncrement) continue;
-                    const auto h = d.header();
-                    d.set_address(wire::DatagramHeader::physical(static_cast<std::uint16_t>(h.adp() + reachable), h.ado()));
-                }
-            }
-        }
         if (!red_->send(frame)) stats_.send_errors.fetch_add(1, std::memory_order_relaxed);
         sent_red = true;
     }
-    sent_this_cycle_.push_back(InFlight{id, kind, index, sent_red});
+    sent_this_cycle_.push_back(InFlight{id, kind, index, sent_main, sent_red});
     stats_.frames_sent.fetch_add(1, std::memory_order_relaxed);
 }
 

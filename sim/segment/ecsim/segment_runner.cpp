@@ -153,11 +153,14 @@ int SegmentRunner::serve() {
             runner_log().info("ecsim stopping");
             return kExitOk;
         }
-        if (fds[kMain].revents != 0 && !serve_side(sim::Side::Main)) return kExitFailure;
-        if (fds[kRed].revents != 0 && !serve_side(sim::Side::Red)) return kExitFailure;
+        // Carrier changes first: a real ESC's PHY knows of a lost link before
+        // the next frame's first bit, so frames that arrive in the same round
+        // already meet the closed port.
         for (std::size_t i = 0; i < setup_.link_states.size(); ++i) {
             if (fds[kFirstLinkState + i].revents != 0) apply_link_changes(*setup_.link_states[i]);
         }
+        if (fds[kMain].revents != 0 && !serve_side(sim::Side::Main)) return kExitFailure;
+        if (fds[kRed].revents != 0 && !serve_side(sim::Side::Red)) return kExitFailure;
         control_->on_poll(std::span(fds).subspan(control_slot, control_count));
 
         if (setup_.pcap && setup_.pcap->has_unflushed() && std::chrono::steady_clock::now() >= next_flush_) {

@@ -43,6 +43,10 @@ public:
     Bytes build(std::size_t index, eni::SlaveState state, ConstBytes outputs, const wire::EthernetHeader& ethernet,
                 Bytes buffer);
 
+    // Whether every datagram of a returned frame that has an expected WKC got
+    // exactly it (false when none has one).
+    bool counters_complete(std::size_t index, const wire::ConstFrameView& returned) const;
+
     // Applies a returned (merged) frame: read data -> inputs, WKC checks.
     // Mismatches are appended to `mismatches` up to its capacity.
     FrameCompletion complete(std::size_t index, const wire::ConstFrameView& returned, Bytes inputs,

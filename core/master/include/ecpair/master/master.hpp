@@ -99,8 +99,11 @@ public:
     void set_sending(bool enabled) { sending_requested_.store(enabled); }
     bool sending() const { return sending_.load(); }
     RingState ring_state() const { return ring_state_.load(); }
-    // Slaves reachable from MAIN while the ring is broken (from the cyclic BRD), 0 when unknown.
-    std::uint16_t reachable_from_main() const { return reachable_from_main_.load(); }
+    // Slaves reachable from MAIN while the ring is broken (from a BRD's WKC), nullopt when unknown.
+    std::optional<std::uint16_t> reachable_from_main() const {
+        const auto r = reachable_from_main_.load();
+        return r < 0 ? std::nullopt : std::optional<std::uint16_t>(static_cast<std::uint16_t>(r));
+    }
     MasterStats stats() const;
     // The image of the last completed cycle (copied under a brief lock).
     ImageSnapshot snapshot() const;
@@ -123,6 +126,7 @@ private:
         std::uint8_t id;
         FrameKind kind;
         std::uint16_t index;
+        bool sent_main;
         bool sent_red;
     };
 
@@ -131,10 +135,13 @@ private:
 
     void accept_returned_frames();
     void complete_previous_cycle(link::Clock::time_point now);
+    bool is_complete(const InFlight& f, const ReturnedCopy& main_copy, const ReturnedCopy& red_copy,
+                     const MergeResult& merged, const wire::ConstFrameView& view) const;
     void observe_ring(bool closed, bool broken, std::optional<std::uint16_t> reachable);
     void apply_requests();
     void send_frames(link::Clock::time_point now);
     void send_copies(FrameKind kind, std::uint16_t index, Bytes frame, std::uint8_t retry_index = 0);
+    bool prepare_red_copy(FrameKind kind, Bytes frame) const;
     void raise(EventKind kind, std::uint32_t a = 0, std::uint32_t b = 0, std::uint32_t c = 0, std::uint32_t d = 0);
     void publish_snapshot();
     bool use_red() const;
@@ -161,8 +168,6 @@ private:
     std::vector<WkcMismatch> mismatches_;
     std::array<std::uint8_t, wire::kMaxFrameSizeVlan> tx_{};
     std::array<std::uint8_t, wire::kMaxFrameSizeVlan> merged_{};
-    std::optional<std::size_t> al_status_frame_;      // the cyclic BRD of AL status, for line-break position
-    std::optional<std::size_t> al_status_datagram_;
     bool inputs_valid_ = false;
     std::uint64_t foreign_reported_cycle_ = UINT64_MAX;
 
@@ -175,7 +180,8 @@ private:
     std::atomic<bool> sending_requested_{true};
     std::array<std::atomic<bool>, 2> link_up_{};
     std::atomic<RingState> ring_state_{RingState::Unknown};
-    std::atomic<std::uint16_t> reachable_from_main_{0};
+    static constexpr std::int32_t kReachableUnknown = -1;
+    std::atomic<std::int32_t> reachable_from_main_{kReachableUnknown};
     struct AtomicStats {
         std::atomic<std::uint64_t> cycles{0}, frames_sent{0}, frames_lost{0}, cycles_incomplete{0}, wkc_errors{0},
             foreign_frames{0}, send_errors{0}, late_frames{0};

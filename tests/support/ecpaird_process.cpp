@@ -1,0 +1,123 @@
+#include "ecpaird_process.hpp"
+
+#include <fstream>
+#include <stdexcept>
+
+#include "ecpair/control/control_client.hpp"
+#include "ecsim_process.hpp"
+
+namespace ecpair::test {
+namespace {
+
+constexpr std::chrono::seconds kStartGuard{10};
+
+}  // namespace
+
+EcpairdProcess::EcpairdProcess(const TestNamespace& ns, EcpairdSettings settings) : settings_(std::move(settings)) {
+    {
+        std::ofstream out(config());
+        out << "name: \"" << settings_.name << "\"\n"
+            << "interfaces { main: \"" << settings_.main_if << "\"";
+        if (!settings_.red_if.empty()) out << " red: \"" << settings_.red_if << "\"";
+        out << " }\n"
+            << "eni_path: \"" << settings_.eni.string() << "\"\n"
+            << "cable_redundancy: " << (settings_.cable_redundancy ? "true" : "false") << "\n";
+        if (settings_.cable_redundancy && settings_.split_lrw) out << "split_lrw: true\n";
+        out << "demo { kind: " << settings_.demo << " }\n"
+            << "control { path: \"" << socket().string() << "\" }\n"
+            << "log_level: \"debug\"\n"
+            << settings_.extra_config << "\n";
+    }
+    process_.emplace(std::vector<std::string>{ecpaird_binary(), "--config", config().string()},
+                     settings_.dir / (settings_.name + ".log"), &ns);
+    const auto give_up = std::chrono::steady_clock::now() + kStartGuard;
+    while (!std::filesystem::exists(socket())) {
+        if (!process_->running() || std::chrono::steady_clock::now() > give_up) {
+            throw std::runtime_error("ecpaird did not come up:\n" + process_->log());
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+}
+
+control::StatusReply EcpairdProcess::status(std::uint32_t variables) const {
+    control::Request request;
+    request.mutable_status()->set_max_variables(variables);
+    auto response = control::call(socket().string(), request);
+    if (!response) throw std::runtime_error(response.error().message);
+    if (!response->ok()) throw std::runtime_error(response->error());
+    return response->status();
+}
+
+std::optional<control::StatusReply> EcpairdProcess::wait_for(
+    const std::function<bool(const control::StatusReply&)>& ready, std::chrono::milliseconds timeout) const {
+    const auto give_up = std::chrono::steady_clock::now() + timeout;
+    std::optional<control::StatusReply> last;
+    for (;;) {
+        last = status();
+        if (ready(*last)) return last;
+        if (std::chrono::steady_clock::now() > give_up) return std::nullopt;
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+}
+
+std::string EcpairdProcess::request_state(const std::string& state) const {
+    control::Request request;
+    request.mutable_set_master_state()->set_state(state);
+    auto response = control::call(socket().string(), request);
+    if (!response) return response.error().message;
+    return response->ok() ? std::string() : response->error();
+}
+
+EventRecorder::EventRecorder(std::filesystem::path socket) : socket_(std::move(socket)) {
+    thread_ = std::thread([this] {
+        control::Request request;
+        request.mutable_watch_events();
+        // Re-connects until stopped: a daemon that restarts keeps being watched.
+        while (!stop_) {
+            (void)control::stream(
+                socket_.string(), request,
+                [this](const control::Response& r) {
+                    if (r.has_event()) {
+                        std::lock_guard lock(mutex_);
+                        events_.push_back(r.event());
+                    }
+                    return !stop_.load();
+                },
+                std::chrono::milliseconds(200));
+        }
+    });
+}
+
+EventRecorder::~EventRecorder() {
+    stop_ = true;
+    thread_.join();
+}
+
+std::vector<control::EventMessage> EventRecorder::events() const {
+    std::lock_guard lock(mutex_);
+    return events_;
+}
+
+std::optional<control::EventMessage> EventRecorder::wait_for(const std::string& kind, const std::string& text,
+                                                             std::chrono::milliseconds timeout) const {
+    const auto give_up = std::chrono::steady_clock::now() + timeout;
+    for (;;) {
+        {
+            std::lock_guard lock(mutex_);
+            for (const auto& e : events_) {
+                if (e.kind() == kind && e.text().find(text) != std::string::npos) return e;
+            }
+        }
+        if (std::chrono::steady_clock::now() > give_up) return std::nullopt;
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+}
+
+std::string EventRecorder::dump() const {
+    std::lock_guard lock(mutex_);
+    std::string out;
+    for (const auto& e : events_) out += e.kind() + " " + e.text() + "\n";
+    return out;
+}
+
+}  // namespace ecpair::test

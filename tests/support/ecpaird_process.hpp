@@ -1,0 +1,78 @@
+#pragma once
+// The real ecpaird running in a test namespace: its configuration written
+// from a few settings, ready once its operator socket exists; status and
+// events read through the operator API like ecpairctl does.
+
+#include <chrono>
+#include <filesystem>
+#include <atomic>
+#include <functional>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "ecpair/control.pb.h"
+#include "netns.hpp"
+
+namespace ecpair::test {
+
+struct EcpairdSettings {
+    std::string name = "m1";
+    std::string main_if = "m1-main";
+    std::string red_if = "m1-red";
+    std::filesystem::path eni;
+    std::filesystem::path dir;
+    bool cable_redundancy = true;
+    bool split_lrw = true;
+    std::string demo = "LOOPBACK_CHECK";
+    std::string extra_config;  // more textproto lines
+};
+
+class EcpairdProcess {
+public:
+    EcpairdProcess(const TestNamespace& ns, EcpairdSettings settings);
+
+    std::filesystem::path socket() const { return settings_.dir / (settings_.name + ".sock"); }
+    std::filesystem::path config() const { return settings_.dir / (settings_.name + ".textproto"); }
+    std::string log() const { return process_->log(); }
+    bool running() { return process_->running(); }
+    int stop() { return process_->stop(); }
+
+    // Throws std::runtime_error when the daemon does not answer.
+    control::StatusReply status(std::uint32_t variables = 0) const;
+    // Polls status until `ready` holds or `timeout` passes; the last status.
+    std::optional<control::StatusReply> wait_for(const std::function<bool(const control::StatusReply&)>& ready,
+                                                 std::chrono::milliseconds timeout) const;
+    // Asks for a master state through the operator API; empty when accepted.
+    std::string request_state(const std::string& state) const;
+
+private:
+    EcpairdSettings settings_;
+    std::optional<ChildProcess> process_;
+};
+
+// Collects the event stream of one daemon on a thread of its own.
+class EventRecorder {
+public:
+    explicit EventRecorder(std::filesystem::path socket);
+    ~EventRecorder();
+    EventRecorder(const EventRecorder&) = delete;
+    EventRecorder& operator=(const EventRecorder&) = delete;
+
+    std::vector<control::EventMessage> events() const;
+    // Waits for an event of `kind` whose text contains `text`.
+    std::optional<control::EventMessage> wait_for(const std::string& kind, const std::string& text,
+                                                  std::chrono::milliseconds timeout) const;
+    std::string dump() const;  // every event so far, one per line
+
+private:
+    std::filesystem::path socket_;
+    mutable std::mutex mutex_;
+    std::vector<control::EventMessage> events_;
+    std::atomic<bool> stop_{false};
+    std::thread thread_;
+};
+
+}  // namespace ecpair::test
