@@ -57,11 +57,13 @@ void print_table(std::ostream& out, const bus::ScanReport& report,
 
 int run_scan_command(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
     std::string interface;
+    std::string red_interface;
     std::string eni_path;
     po::options_description options("ecpairctl scan options");
     options.add_options()
         ("help,h", "show this help")
         ("if,i", po::value(&interface), "network interface the bus is connected to (required)")
+        ("red-if", po::value(&red_interface), "the ring's other end, where frames come back in a closed redundant ring")
         ("eni,e", po::value(&eni_path), "ENI file to compare the bus with");
     po::variables_map vm;
     try {
@@ -72,7 +74,7 @@ int run_scan_command(const std::vector<std::string>& args, std::ostream& out, st
         return kUsage;
     }
     if (vm.count("help") != 0) {
-        fmt::print(out, "usage: ecpairctl scan --if IF [--eni FILE]\n{}", fmt::streamed(options));
+        fmt::print(out, "usage: ecpairctl scan --if IF [--red-if IF] [--eni FILE]\n{}", fmt::streamed(options));
         return kOk;
     }
     if (interface.empty()) {
@@ -95,7 +97,16 @@ int run_scan_command(const std::vector<std::string>& args, std::ostream& out, st
         fmt::print(err, "ecpairctl scan: {}\n", link.error().message);
         return kBusFailure;
     }
-    bus::LinkBusAccess access(**link);
+    std::unique_ptr<link::PcapLink> red;
+    if (!red_interface.empty()) {
+        auto opened = link::PcapLink::open(red_interface, {});
+        if (!opened) {
+            fmt::print(err, "ecpairctl scan: {}\n", opened.error().message);
+            return kBusFailure;
+        }
+        red = std::move(*opened);
+    }
+    bus::LinkBusAccess access(**link, red.get());
     auto report = bus::scan_bus(access);
     if (!report) {
         fmt::print(err, "ecpairctl scan: {}\n", report.error().message);

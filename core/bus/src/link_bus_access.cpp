@@ -5,6 +5,9 @@
 
 #include "ecpair/bus/link_bus_access.hpp"
 
+#include <poll.h>
+
+#include <algorithm>
 #include <array>
 
 #include <fmt/format.h>
@@ -15,7 +18,28 @@
 
 namespace ecpair::bus {
 
-LinkBusAccess::LinkBusAccess(link::Link& link) : link_(link) {}
+LinkBusAccess::LinkBusAccess(link::Link& link, link::Link* also_receive_on) : link_(link), other_(also_receive_on) {}
+
+Expected<std::optional<std::size_t>, BusError> LinkBusAccess::receive_any(Bytes buffer,
+                                                                          std::chrono::nanoseconds timeout) {
+    if (other_ == nullptr) {
+        auto received = link_.receive(buffer, timeout);
+        if (!received) return unexpected(BusError{BusErrc::LinkFailure, received.error().message});
+        if (!received->has_value()) return std::optional<std::size_t>();
+        return std::optional<std::size_t>((*received)->size);
+    }
+    std::array<pollfd, 2> fds{pollfd{link_.selectable_fd(), POLLIN, 0}, pollfd{other_->selectable_fd(), POLLIN, 0}};
+    const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(timeout).count();
+    if (::poll(fds.data(), fds.size(), static_cast<int>(std::clamp<std::int64_t>(ms, 1, 1000))) <= 0) {
+        return std::optional<std::size_t>();
+    }
+    for (link::Link* link : {&link_, other_}) {
+        auto received = link->try_receive(buffer);
+        if (!received) return unexpected(BusError{BusErrc::LinkFailure, received.error().message});
+        if (received->has_value()) return std::optional<std::size_t>((*received)->size);
+    }
+    return std::optional<std::size_t>();
+}
 
 Expected<DatagramReply, BusError> LinkBusAccess::exchange(const DatagramRequest& request) {
     if (request.data.size() > wire::kMaxDatagramData) {
@@ -51,10 +75,10 @@ Expected<DatagramReply, BusError> LinkBusAccess::exchange(const DatagramRequest&
 
         const auto deadline = link::Clock::now() + request.timeout;
         for (auto now = link::Clock::now(); now < deadline; now = link::Clock::now()) {
-            auto received = link_.receive(rx, deadline - now);
-            if (!received) return unexpected(BusError{BusErrc::LinkFailure, received.error().message});
-            if (!received->has_value()) break;
-            auto view = wire::ConstFrameView::parse(std::span<const std::uint8_t>(rx.data(), (*received)->size));
+            auto received = receive_any(rx, deadline - now);
+            if (!received) return unexpected(received.error());
+            if (!received->has_value()) continue;
+            auto view = wire::ConstFrameView::parse(std::span<const std::uint8_t>(rx.data(), **received));
             if (!view || view->datagram_count() == 0) continue;
             if (wire::SourceMac::decode(view->ethernet().source).nic != nic) continue;
             const auto datagram = *view->begin();
