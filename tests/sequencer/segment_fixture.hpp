@@ -14,7 +14,7 @@
 #include "ecpair/eni/loader.hpp"
 #include "ecpair/sequencer/master_state_machine.hpp"
 #include "ecpair/sim/segment.hpp"
-#include "segment_bus_access.hpp"
+#include "ecpair/sim/segment_bus_access.hpp"
 
 namespace ecpair::test {
 
@@ -42,7 +42,7 @@ public:
     explicit SimulatedBus(const eni::EniConfig& wiring) : segment(build(wiring)), bus(segment) {}
 
     sim::Segment segment;
-    SegmentBusAccess bus;
+    sim::SegmentBusAccess bus;
 
 private:
     static sim::Segment build(const eni::EniConfig& wiring) {

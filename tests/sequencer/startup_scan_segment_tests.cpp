@@ -13,7 +13,7 @@ namespace {
 
 using bus::SlaveMatch;
 
-sequencer::ScanOutcome scan(SegmentBusAccess& bus, const eni::EniConfig& eni) {
+sequencer::ScanOutcome scan(sim::SegmentBusAccess& bus, const eni::EniConfig& eni) {
     VirtualClock clock;
     auto outcome = sequencer::StartupScan(bus, clock).run(eni);
     REQUIRE(outcome);

@@ -28,8 +28,10 @@
 #include "dc_registers.hpp"
 #include "dl_registers.hpp"
 #include "ecpair/common/log.hpp"
+#include "ecpair/sim/coe_server.hpp"
 #include "ecpair/wire/esc_registers.hpp"
 #include "error_counters.hpp"
+#include "esc_coe_context.hpp"
 #include "esc_layout.hpp"
 #include "esc_memory.hpp"
 #include "fmmu.hpp"
@@ -78,8 +80,15 @@ struct Esc::Impl {
           al(memory, log, owner),
           checks(layout, sync_managers, memory),
           mailbox(memory, sync_managers, largest_slave_mailbox(layout)),
-          application(memory, sync_managers, layout) {
+          application(memory, sync_managers, layout),
+          coe_context(memory, al, layout, log, owner) {
         checks.set_id_selector(description.id_selector);
+        // A slave whose mailbox offers CoE (or that has CoE InitCmds) answers
+        // SDOs from its object dictionary (docs/ESC_EMULATION.md "CoE server").
+        if (layout.has_mailbox() && (layout.mailbox_protocols & eni::kCoE) != 0) {
+            mailbox.set_handler(std::make_unique<CoeServer>(ObjectDictionary::for_slave(description), coe_context,
+                                                            layout.mailbox->in.length));
+        }
         power_on();
     }
 
@@ -100,7 +109,7 @@ struct Esc::Impl {
     bool forwarding_rule() const { return DlControl::decode(memory.load<std::uint32_t>(reg::kDlControl)).forwarding_rule; }
 
     const EscDescription description;
-    const EscLayout layout;
+    EscLayout layout;  // not const: a CoE PDO assignment changes the expected process data sizes
     std::shared_ptr<spdlog::logger> log;
     std::string owner;
     EscMemory memory;
@@ -115,6 +124,7 @@ struct Esc::Impl {
     SlaveStackChecks checks;
     MailboxService mailbox;
     SlaveApplication application;
+    EscCoeContext coe_context;
 
     bool powered = false;
     std::array<std::optional<std::uint64_t>, kMaxPorts> arrival_seq{};

@@ -1,13 +1,13 @@
 // One request, one frame: build it with the wire codec, let the segment
 // carry it from MAIN, read the datagram back (see the header).
 
-#include "segment_bus_access.hpp"
+#include "ecpair/sim/segment_bus_access.hpp"
 
 #include <array>
 
 #include "ecpair/wire/frame.hpp"
 
-namespace ecpair::test {
+namespace ecpair::sim {
 
 Expected<bus::DatagramReply, bus::BusError> SegmentBusAccess::exchange(const bus::DatagramRequest& request) {
     std::lock_guard lock(mutex_);
@@ -30,7 +30,7 @@ Expected<bus::DatagramReply, bus::BusError> SegmentBusAccess::exchange(const bus
     std::size_t size = builder.finish().size();
     now_ns_ += kTimePerFrameNs;
     ++frames_;
-    const auto exit = segment_.carry(sim::Side::Main, buffer, size, now_ns_);
+    const auto exit = segment_.carry(Side::Main, buffer, size, now_ns_);
     if (!exit) return unexpected(bus::BusError{bus::BusErrc::Timeout, "the frame died in the segment"});
     auto view = wire::ConstFrameView::parse(std::span<const std::uint8_t>(buffer.data(), size));
     if (!view || view->datagram_count() == 0) {
@@ -50,9 +50,9 @@ std::uint64_t SegmentBusAccess::frames() const {
     return frames_;
 }
 
-void SegmentBusAccess::with_segment(const std::function<void(sim::Segment&)>& f) {
+void SegmentBusAccess::with_segment(const std::function<void(Segment&)>& f) {
     std::lock_guard lock(mutex_);
     f(segment_);
 }
 
-}  // namespace ecpair::test
+}  // namespace ecpair::sim

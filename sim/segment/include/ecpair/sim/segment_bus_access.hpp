@@ -1,5 +1,6 @@
 #pragma once
-// A BusAccess over an in-process simulated segment: each request becomes one
+// A BusAccess over an in-process simulated segment (tests, benchmarks, and
+// anything that wants a master's view of ecsim without interfaces): each request becomes one
 // frame with one datagram that enters the segment at MAIN; whatever side it
 // leaves by, its datagram's data and WKC are the reply. A frame that dies
 // on the way is a timeout. Simulated time moves on by a fixed step per
@@ -13,23 +14,23 @@
 #include "ecpair/bus/bus_access.hpp"
 #include "ecpair/sim/segment.hpp"
 
-namespace ecpair::test {
+namespace ecpair::sim {
 
 class SegmentBusAccess final : public bus::BusAccess {
 public:
     static constexpr std::uint64_t kTimePerFrameNs = 100'000;
 
-    explicit SegmentBusAccess(sim::Segment& segment) : segment_(segment) {}
+    explicit SegmentBusAccess(Segment& segment) : segment_(segment) {}
 
     Expected<bus::DatagramReply, bus::BusError> exchange(const bus::DatagramRequest& request) override;
 
     void refuse(std::optional<bus::BusErrc> reason);
     std::uint64_t frames() const;
     // Runs `f` on the segment while no frame is travelling (faults, inspection).
-    void with_segment(const std::function<void(sim::Segment&)>& f);
+    void with_segment(const std::function<void(Segment&)>& f);
 
 private:
-    sim::Segment& segment_;
+    Segment& segment_;
     mutable std::mutex mutex_;
     std::optional<bus::BusErrc> refusal_;
     std::uint64_t now_ns_ = 1'000'000'000;
@@ -37,4 +38,4 @@ private:
     std::uint8_t next_index_ = 0;
 };
 
-}  // namespace ecpair::test
+}  // namespace ecpair::sim

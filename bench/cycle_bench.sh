@@ -1,0 +1,74 @@
+#!/usr/bin/env bash
+# Long run of one ecpaird with cable redundancy on a simulated segment of 33
+# slaves with ~5 kB of process data (76 bytes in + 76 out each, LWR + LRD),
+# in network namespaces. Prints late cycles, lost and incomplete frames,
+# wake-up latency percentiles (the cycle's jitter against its absolute
+# deadline) and the CPU ecpaird and ecsim used.
+#
+#   bash bench/cycle_bench.sh [CYCLE_US] [SECONDS]     (defaults: 1000 600)
+#
+# Needs root and a build in ./build (or ECPAIR_BUILD_DIR).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+source deploy/lib/topology.sh
+cycle_us=${1:-1000}
+seconds=${2:-600}
+bin=${ECPAIR_BUILD_DIR:-$(pwd)/build}
+prefix=ecpb$$
+work=$(mktemp -d /tmp/ecpair-bench.XXXXXX)
+
+cleanup() {
+  for pid in ${daemon_pid:-} ${ecsim_pid:-}; do kill "$pid" 2>/dev/null && wait "$pid" 2>/dev/null || true; done
+  topology_down "$prefix"
+  rm -rf "$work"
+}
+trap cleanup EXIT
+
+ticks() { awk '{print $14 + $15}' "/proc/$1/stat"; }  # utime + stime of a process
+
+"$bin/sim/generator/ecsim-make-eni" --slaves 33 --input-bytes 76 --output-bytes 76 --cycle-us "$cycle_us" -o "$work/bench.xml"
+topology_up "$prefix" single
+ip netns exec "$prefix-sim" "$bin/sim/segment/ecsim" --eni "$work/bench.xml" --main-if sim-main --red-if sim-red \
+  --control "$work/ecsim.sock" --realtime-priority 70 --log-level warn >"$work/ecsim.log" 2>&1 &
+ecsim_pid=$!
+for _ in $(seq 100); do [ -S "$work/ecsim.sock" ] && break; sleep 0.1; done
+cat >"$work/bench.textproto" <<CONF
+name: "bench"
+interfaces { main: "m1-main" red: "m1-red" }
+eni_path: "$work/bench.xml"
+cycle_time_us: $cycle_us
+cable_redundancy: true
+demo { kind: LOOPBACK_CHECK step_cycles: 10 }
+control { path: "$work/bench.sock" }
+log_level: "warn"
+CONF
+ip netns exec "$prefix-m1" "$bin/supervisor/ecpaird/ecpaird" --config "$work/bench.textproto" >"$work/ecpaird.log" 2>&1 &
+daemon_pid=$!
+status() { "$bin/supervisor/ecpairctl/ecpairctl" status --socket "$work/bench.sock"; }
+for _ in $(seq 300); do status 2>/dev/null | grep -q 'master OP' && break; sleep 0.1; done
+status | grep -q 'master OP' || { echo "did not reach OP"; cat "$work/ecpaird.log"; exit 1; }
+
+start_status=$(status)
+start_daemon=$(ticks "$daemon_pid"); start_sim=$(ticks "$ecsim_pid"); start=$(date +%s.%N)
+sleep "$seconds"
+end_daemon=$(ticks "$daemon_pid"); end_sim=$(ticks "$ecsim_pid"); end=$(date +%s.%N)
+end_status=$(status)
+
+number() { grep -oE "$2 [0-9]+" <<<"$1" | head -1 | grep -oE '[0-9]+$'; }
+late() { grep -oE '\(([0-9]+) late' <<<"$1" | grep -oE '[0-9]+'; }
+delta() { echo $(( $(number "$end_status" "$1") - $(number "$start_status" "$1") )); }
+hz=$(getconf CLK_TCK)
+cpu() { awk -v a="$1" -v b="$2" -v hz="$hz" -v s="$start" -v e="$end" 'BEGIN { printf "%.1f%%", (b - a) / hz / (e - s) * 100 }'; }
+
+echo "cycle ${cycle_us} µs, ${seconds} s in OP, 33 slaves, $(( 33 * 152 )) bytes of process data, cable redundancy"
+echo "  cycles:           $(delta cycles)"
+echo "  late cycles:      $(( $(late "$end_status") - $(late "$start_status") ))   (woke more than a quarter period after the deadline)"
+grep -oE 'cycles [0-9]+ \([^)]*\)' <<<"$end_status" | sed 's/^/  whole run:        /'
+echo "  frames sent:      $(delta 'frames sent')"
+echo "  frames lost:      $(delta 'lost')   (not complete when the next cycle started)"
+echo "  late copies:      $(delta 'late copies')"
+echo "  incomplete cycles: $(delta 'incomplete cycles')"
+echo "  WKC errors:       $(delta 'WKC errors')"
+grep -E 'loopback' <<<"$end_status" | sed 's/^ */  /'
+echo "  CPU ecpaird:      $(cpu "$start_daemon" "$end_daemon") of one core"
+echo "  CPU ecsim:        $(cpu "$start_sim" "$end_sim") of one core"
