@@ -1,5 +1,6 @@
 #include "daemon_commands.hpp"
 
+#include <functional>
 #include <ostream>
 
 #include <boost/program_options.hpp>
@@ -70,6 +71,23 @@ void print_status(std::ostream& out, const control::StatusReply& s) {
     fmt::print(out, "  frames sent {}, lost {}, late copies {}, incomplete cycles {}, WKC errors {}, foreign {}\n",
                c.frames_sent(), c.frames_lost(), c.late_copies(), c.cycles_incomplete(), c.wkc_errors(),
                c.foreign_frames());
+    if (s.redundancy().enabled()) {
+        const auto& r = s.redundancy();
+        fmt::print(out, "  redundancy: {}, partner {}{}\n", r.red_state(), r.partner_seen() ? "seen" : "NOT seen",
+                   r.red_state() == "INACTIVE" ? fmt::format(", mirrored cycle {}", r.mirrored_cycle()) : std::string());
+        if (!r.partner_mismatch().empty()) fmt::print(out, "  partner differs (cold standby): {}\n", r.partner_mismatch());
+        auto hex = [](const std::string& bytes) {
+            std::string text;
+            for (const char byte : bytes.substr(0, 16)) text += fmt::format("{:02x}", static_cast<unsigned char>(byte));
+            return text.empty() ? std::string("-") : text;
+        };
+        fmt::print(out, "  master PD out {} in {}\n", hex(r.master_pd_out()), hex(r.master_pd_in()));
+        if (r.red_state() == "INACTIVE") {
+            fmt::print(out, "  store-and-forward: {} to MAIN, {} to RED, {} bounced, dropped: {} circulating, {} non-EtherCAT, {} damaged\n",
+                       r.forwarded_main(), r.forwarded_red(), r.bounced(), r.dropped_circulating(),
+                       r.dropped_non_ethercat(), r.dropped_damaged());
+        }
+    }
     if (s.loopback().cycles_checked() > 0) {
         fmt::print(out, "  loopback check: {} cycles, {} slave checks, {} mismatches\n", s.loopback().cycles_checked(),
                    s.loopback().slave_checks(), s.loopback().mismatches());
@@ -150,19 +168,23 @@ int run_events_command(const std::vector<std::string>& args, std::ostream& out, 
     return refused ? kRefused : kOk;
 }
 
-int run_state_command(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
+namespace {
+
+// The state commands differ only in the request they send.
+int run_state_request(const std::vector<std::string>& args, std::ostream& out, std::ostream& err, const char* usage,
+                      const char* values, const std::function<void(control::Request&, const std::string&)>& fill) {
     Common common;
     std::string state;
-    po::options_description options("ecpairctl state options");
+    po::options_description options("ecpairctl options");
     add_common(options, common);
-    options.add_options()("state", po::value(&state)->required(), "INIT, PREOP, SAFEOP or OP");
+    options.add_options()("state", po::value(&state)->required(), values);
     po::positional_options_description positional;
     positional.add("state", 1);
     po::variables_map vm;
-    if (auto rc = parse(args, options, &positional, vm, "ecpairctl state [--socket PATH] STATE", out, err)) return *rc;
+    if (auto rc = parse(args, options, &positional, vm, usage, out, err)) return *rc;
 
     control::Request request;
-    request.mutable_set_master_state()->set_state(state);
+    fill(request, state);
     auto response = control::call(common.path(), request);
     if (!response) {
         fmt::print(err, "ecpairctl: {}\n", response.error().message);
@@ -172,8 +194,20 @@ int run_state_command(const std::vector<std::string>& args, std::ostream& out, s
         fmt::print(err, "ecpairctl: {}\n", response->error());
         return kRefused;
     }
-    fmt::print(out, "master state {} requested\n", state);
+    fmt::print(out, "{} requested\n", state);
     return kOk;
+}
+
+}  // namespace
+
+int run_state_command(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
+    return run_state_request(args, out, err, "ecpairctl state [--socket PATH] STATE", "INIT, PREOP, SAFEOP or OP",
+                             [](control::Request& r, const std::string& s) { r.mutable_set_master_state()->set_state(s); });
+}
+
+int run_red_state_command(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
+    return run_state_request(args, out, err, "ecpairctl red-state [--socket PATH] ACTIVE|INACTIVE", "ACTIVE or INACTIVE",
+                             [](control::Request& r, const std::string& s) { r.mutable_set_red_state()->set_state(s); });
 }
 
 }  // namespace ecpair::ctl

@@ -3,6 +3,7 @@
 //   status [--variables N]   a readable table of the daemon's state
 //   events [--for SECONDS]   the event stream (watch)
 //   state STATE              ask for INIT, PREOP, SAFEOP or OP
+//   red-state STATE          make this controller ACTIVE or INACTIVE (redundant pair)
 // Every command takes --socket PATH (default /run/ecpair/<--name>.sock,
 // --name defaulting to "ecpaird").
 //
@@ -18,5 +19,6 @@ namespace ecpair::ctl {
 int run_status_command(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 int run_events_command(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 int run_state_command(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
+int run_red_state_command(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 
 }  // namespace ecpair::ctl

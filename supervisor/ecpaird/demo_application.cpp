@@ -44,7 +44,8 @@ bool DemoApplication::matches(const master::ProcessImage& image, const LoopbackC
 }
 
 void DemoApplication::on_cycle(master::ProcessImage& image, const master::CycleInfo& info) {
-    if (kind_ == config::DemoKind::None) return;
+    // A passive (INACTIVE) master mirrors the partner's image: nothing to write or check.
+    if (kind_ == config::DemoKind::None || !info.sending) return;
     // The inputs of this cycle answer the outputs of the previous one(s): check first, then write new outputs.
     if (kind_ == config::DemoKind::LoopbackCheck && info.state == eni::SlaveState::Op && info.inputs_valid &&
         previous_inputs_valid_ && !previous_outputs_.empty()) {

@@ -99,6 +99,12 @@ std::optional<std::string> OperatorService::set_master_state(const control::SetM
     return "state: '" + request.state() + "' is not one of INIT, PREOP, SAFEOP, OP";
 }
 
+std::optional<std::string> OperatorService::set_red_state(const control::SetRedStateRequest&) {
+    return "this controller is not part of a redundant pair (redundancy.enabled is off)";
+}
+
+control::ImageHistoryReply OperatorService::image_history(const control::ImageHistoryRequest&) { return {}; }
+
 control::EventMessage to_message(const master::Event& event) {
     control::EventMessage m;
     m.set_cycle(event.cycle);

@@ -23,6 +23,8 @@ public:
 
     control::StatusReply status(const control::StatusRequest& request) override;
     std::optional<std::string> set_master_state(const control::SetMasterStateRequest& request) override;
+    std::optional<std::string> set_red_state(const control::SetRedStateRequest& request) override;
+    control::ImageHistoryReply image_history(const control::ImageHistoryRequest& request) override;
 
 private:
     const config::DaemonSettings& settings_;

@@ -106,3 +106,27 @@ TEST_CASE("a missing file is named", "[config]") {
     REQUIRE_FALSE(r);
     CHECK(r.error().describe() == "/nonexistent/ecpaird.textproto: cannot open the file");
 }
+
+TEST_CASE("redundancy settings: defaults, values, and their errors", "[config]") {
+    auto plain = parse_daemon_settings(kMinimal);
+    REQUIRE(plain);
+    CHECK_FALSE(plain->redundancy.enabled);
+
+    auto pair = parse_daemon_settings(R"(
+interfaces { main: "m1-main" red: "m1-red" }
+eni_path: "x.xml"
+redundancy { enabled: true initial_state: ACTIVE master_pd_out_size: 16 master_pd_in_size: 8 update_slave_pd_out: false }
+)");
+    REQUIRE(pair);
+    CHECK(pair->redundancy.enabled);
+    CHECK(pair->redundancy.start_active);
+    CHECK(pair->redundancy.master_pd_out_size == 16);
+    CHECK(pair->redundancy.master_pd_in_size == 8);
+    CHECK(pair->redundancy.update_slave_pd_in);
+    CHECK_FALSE(pair->redundancy.update_slave_pd_out);
+
+    CHECK(error_of("interfaces { main: \"a\" }\neni_path: \"x\"\nredundancy { enabled: true }\n") ==
+          "test.textproto:3:14: redundancy.enabled: a redundant pair needs interfaces.red (the master-master cable)");
+    CHECK(error_of("interfaces { main: \"a\" red: \"b\" }\neni_path: \"x\"\nredundancy { master_pd_in_size: 5000 }\n") ==
+          "test.textproto:3:14: redundancy.master_pd_in_size: must be 0..4096 bytes (got 5000)");
+}

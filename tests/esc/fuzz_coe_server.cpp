@@ -86,7 +86,8 @@ sim::EscDescription drive() {
 }
 
 struct Target {
-    explicit Target(std::size_t sm1_size) : outbox(sm1_size), server(sim::ObjectDictionary::for_slave(drive()), slave, sm1_size) {}
+    explicit Target(std::size_t sm1_size)
+        : outbox(sm1_size), server(sim::ObjectDictionary::for_slave(drive()), slave, sm1_size) {}
     FakeSlave slave;
     CheckingOutbox outbox;
     sim::CoeServer server;

@@ -61,6 +61,7 @@ private:
 
 TEST_CASE("without a handler every request gets a mailbox error reply, as from SOES") {
     Line line = drive_in_preop();
+    line[0].set_mailbox_handler(nullptr);  // the drive offers CoE and would get ecsim's CoE server
     REQUIRE(line.fpwr(kFirstStation, kSm0, request(wire::MailboxType::CoE, 10, 1)) == 1);
     const Datagram reply = read_sm1(line);
     REQUIRE(reply.wkc == 1);

@@ -4,6 +4,7 @@
 // ENIs, move data both ways, survive a line break anywhere without losing a
 // cycle to it, and name a missing or wrong slave.
 
+#include <algorithm>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -124,11 +125,17 @@ TEST_CASE("ecpaird reaches OP in ecsim from real ENIs with LRW split into LWR + 
             SingleMasterRing ring(shared_eni(file));
             const auto op = ring.reach_op();
             CHECK(op.sequence_error().empty());
-            const auto running = ring.daemon.wait_for([](const StatusReply& s) { return s.timing().cycles() > 1500; }, 20s);
-            REQUIRE(running);
+            // The slave monitor reads every slave's AL status in rounds: wait for a round in OP.
+            const auto all_op = [](const StatusReply& s) {
+                return std::all_of(s.slaves().begin(), s.slaves().end(),
+                                   [](const auto& slave) { return slave.al_state() == "OP"; });
+            };
+            const auto running = ring.daemon.wait_for(
+                [&](const StatusReply& s) { return all_op(s) && s.loopback().cycles_checked() > 500; }, 20s);
             INFO(ring.events.dump());
+            REQUIRE(running);
             CHECK(running->loopback().mismatches() == 0);
-            for (const auto& slave : running->slaves()) CHECK(slave.al_state() == "OP");
+            CHECK(running->counters().wkc_errors() == 0);
             REQUIRE(ring.ecsim.stop() == 0);
             CHECK(count_malformed_ethercat_frames(ring.ecsim.pcap()) == 0);
         }

@@ -1,12 +1,14 @@
 // One cycle, in the order design.md §4 gives for the ACTIVE:
 //   1. accept the frames the receive threads queued since the last cycle,
 //   2. complete the frames sent in the last cycle: merge the MAIN and RED
-//      copies, move inputs into the image, check WKCs, complete acyclic
+//      copies, move inputs into the process image, check WKCs, complete acyclic
 //      requests, watch the ring (line break / repair),
-//   3. apply state and sending requests made since,
-//   4. run the application's hook on the image,
-//   5. send the cyclic frames of the current state, the extension's frames
-//      and up to max_acyclic_frames_per_cycle acyclic frames.
+//   3. let the extension (redundancy) act at the cycle boundary: change role,
+//      bring in a mirrored image while passive,
+//   4. apply state and sending requests made since,
+//   5. run the application's hook on the image,
+//   6. when sending: the cyclic frames of the current state, the extension's
+//      frames and up to max_acyclic_frames_per_cycle acyclic frames.
 // A frame that has not come back when the next cycle starts is lost.
 
 #include "ecpair/master/master.hpp"
@@ -131,11 +133,12 @@ MasterStats Master::stats() const {
 }
 
 void Master::run_cycle(link::Clock::time_point now) {
-    ++cycle_;
+    cycle_counter_.store(++cycle_);
     accept_returned_frames();
     complete_previous_cycle(now);
+    if (extension_) extension_->begin_cycle(image_, cycle_);
     apply_requests();
-    if (hook_) hook_(image_, CycleInfo{cycle_, state_.load(), inputs_valid_});
+    if (hook_) hook_(image_, CycleInfo{cycle_, state_.load(), inputs_valid_, sending_.load()});
     if (sending_.load()) send_frames(now);
     publish_snapshot();
     in_flight_.swap(sent_this_cycle_);

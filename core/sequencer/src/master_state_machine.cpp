@@ -80,6 +80,18 @@ void MasterStateMachine::request(MasterState target) {
     changed_.notify_all();
 }
 
+void MasterStateMachine::adopt(MasterState state) {
+    {
+        std::lock_guard lock(mutex_);
+        current_ = state;
+        target_ = state;
+        pending_ = false;
+        last_error_.reset();
+    }
+    logger("sequencer")->info("master state {} adopted (the slaves are already there)", to_string(state));
+    changed_.notify_all();
+}
+
 MasterState MasterStateMachine::target() const {
     std::lock_guard lock(mutex_);
     return target_;

@@ -216,12 +216,16 @@ Expected<std::optional<wire::SdoMessage>, SdoError> SdoClient::decode_reply(cons
                                   to_hex(body.subspan(wire::CoeHeader::kSize), " "), transfer.what);
         return std::optional<wire::SdoMessage>();
     }
-    if (coe->service != wire::CoeService::SdoResponse) {
+    // Slaves send an abort with either SDO service (SOES and others use the request service 2).
+    if (coe->service != wire::CoeService::SdoResponse && coe->service != wire::CoeService::SdoRequest) {
         return unexpected(transfer.error(SdoFailure::Protocol,
                                          fmt::format("CoE service {} instead of an SDO response",
                                                      static_cast<unsigned>(coe->service))));
     }
     auto sdo = wire::SdoMessage::decode(body.subspan(wire::CoeHeader::kSize), true);
+    if (sdo && coe->service == wire::CoeService::SdoRequest && sdo->command != wire::SdoCommand::Abort) {
+        return unexpected(transfer.error(SdoFailure::Protocol, "CoE service 2 (SDO request) in a reply that is no abort"));
+    }
     if (!sdo) return unexpected(transfer.error(SdoFailure::Protocol, "malformed SDO response"));
     if (sdo->command == wire::SdoCommand::Abort) {
         auto error = transfer.error(SdoFailure::Abort, fmt::format("aborted: 0x{:08x} {}", sdo->complete_size,

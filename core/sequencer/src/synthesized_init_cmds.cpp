@@ -142,7 +142,9 @@ void preop_to_safeop(Builder& b, const eni::Slave& slave) {
         config.physical_start = *sm.start_address;
         config.length = *size;
         config.control = sm.control_byte.value_or(sm.type == eni::SmType::Outputs ? 0x64 : 0x20);
-        config.activate = *size > 0 && sm.enable.value_or(true) ? 0x01 : 0x00;
+        // Advantech writes Enable=false on SMs that have PDOs assigned; a slave
+        // refuses SAFEOP with such an SM switched off, so assigned data wins.
+        config.activate = *size > 0 ? 0x01 : 0x00;
         b.sync_manager(sm.index, config, "set process data SM (made up)");
     }
     b.request_state(wire::Command::Fpwr, static_cast<std::uint8_t>(eni::SlaveState::Safeop), eni::SlaveState::Safeop,

@@ -26,6 +26,7 @@ std::size_t sdo_reply_capacity(std::size_t mailbox_in_size) {
     return mailbox_in_size > kCoeOverhead ? mailbox_in_size - kCoeOverhead : 0;
 }
 
+// Read before the header is checked: a retransmission is one even when its header is bad.
 std::uint8_t counter_of(ConstBytes request) { return static_cast<std::uint8_t>((request[5] >> 4) & 0x07); }
 
 }  // namespace

@@ -168,10 +168,11 @@ Expected<std::vector<ObjectDictionary::PlannedWrite>, SdoAbortCode> ObjectDictio
     if (!is_pdo_object(*object)) return writes;
 
     // Step 3: the PDO configuration rules.
-    const auto count_write = std::find_if(writes.begin(), writes.end(), [](const PlannedWrite& w) { return w.subindex == 0; });
+    const auto is_count = [](const PlannedWrite& w) { return w.subindex == 0; };
+    const auto count_write = std::find_if(writes.begin(), writes.end(), is_count);
     const std::uint8_t new_count = count_write != writes.end() ? count_write->bytes.front() : count_of(*object);
     if (new_count > capacity_of(*object)) return unexpected(sdo_abort::kValueOutOfRange);
-    const bool writes_entries = std::any_of(writes.begin(), writes.end(), [](const PlannedWrite& w) { return w.subindex != 0; });
+    const bool writes_entries = !std::all_of(writes.begin(), writes.end(), is_count);
     if (writes_entries && count_write == writes.end() && count_of(*object) != 0) {
         return unexpected(sdo_abort::kSubindexZeroNotZero);
     }

@@ -92,7 +92,10 @@ void grow_pdo_object(DictionaryObject& object, std::size_t capacity) {
 class DictionaryBuilder {
 public:
     DictionaryBuilder(const EscDescription& description, const EscLayout& layout)
-        : description_(description), layout_(layout), log_(logger("esc")), owner_(fmt::format("slave {:?}", description.name)) {}
+        : description_(description),
+          layout_(layout),
+          log_(logger("esc")),
+          owner_(fmt::format("slave {:?}", description.name)) {}
 
     Objects build() {
         add_standard_objects();
@@ -139,8 +142,10 @@ private:
         for (const eni::PdoEntry& e : pdo.entries) {
             for (std::uint16_t left = e.bit_length; left > 0 && mapping.entries.size() <= kMaxEntries;) {
                 const auto bits = std::min(left, kMaxMappedBits);
-                const auto value = static_cast<std::uint32_t>(e.index) << 16 | static_cast<std::uint32_t>(e.subindex) << 8 | bits;
-                mapping.entries.push_back({static_cast<std::uint8_t>(mapping.entries.size()), access, little_endian(value, 4)});
+                const auto value =
+                    static_cast<std::uint32_t>(e.index) << 16 | static_cast<std::uint32_t>(e.subindex) << 8 | bits;
+                mapping.entries.push_back(
+                    {static_cast<std::uint8_t>(mapping.entries.size()), access, little_endian(value, kMappingEntrySize)});
                 left = static_cast<std::uint16_t>(left - bits);
             }
             if (e.index != 0 && e.bit_length > 0) add_application_entry(e, application_access);
@@ -245,7 +250,8 @@ private:
         }
         const bool is_count = object.kind == ObjectKind::Record && cmd.subindex == 0;
         const std::size_t size = is_count ? 1 : cmd.data.size();
-        ObjectEntry& entry = entry_at(object, ObjectEntry{cmd.subindex, EntryAccess::ReadWrite, std::vector<std::uint8_t>(size, 0)});
+        ObjectEntry& entry =
+            entry_at(object, ObjectEntry{cmd.subindex, EntryAccess::ReadWrite, std::vector<std::uint8_t>(size, 0)});
         entry.access = EntryAccess::ReadWrite;
         if (entry.value.empty()) entry.value.resize(size);  // a Variable created by object_for
         if (entry.value.size() != cmd.data.size()) {

@@ -148,6 +148,28 @@ Expected<DaemonSettings, ConfigError> parse_daemon_settings(const std::string& t
         }
         s.log_level = proto.log_level();
     }
+    if (proto.has_redundancy()) {
+        const auto& r = proto.redundancy();
+        auto& out = s.redundancy;
+        out.enabled = r.enabled();
+        if (out.enabled && s.red_interface.empty()) {
+            return fail("redundancy.enabled", "a redundant pair needs interfaces.red (the master-master cable)");
+        }
+        out.start_active = r.initial_state() == config::ACTIVE;
+        constexpr std::uint32_t kMaxMasterPd = 4096;
+        if (r.master_pd_out_size() > kMaxMasterPd) {
+            return fail("redundancy.master_pd_out_size", fmt::format("must be 0..{} bytes (got {})", kMaxMasterPd,
+                                                                     r.master_pd_out_size()));
+        }
+        if (r.master_pd_in_size() > kMaxMasterPd) {
+            return fail("redundancy.master_pd_in_size", fmt::format("must be 0..{} bytes (got {})", kMaxMasterPd,
+                                                                    r.master_pd_in_size()));
+        }
+        out.master_pd_out_size = r.master_pd_out_size();
+        out.master_pd_in_size = r.master_pd_in_size();
+        if (r.has_update_slave_pd_in()) out.update_slave_pd_in = r.update_slave_pd_in();
+        if (r.has_update_slave_pd_out()) out.update_slave_pd_out = r.update_slave_pd_out();
+    }
     return s;
 }
 

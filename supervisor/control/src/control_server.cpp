@@ -84,7 +84,20 @@ private:
                     response.set_ok(true);
                 }
                 break;
-            case Request::KIND_NOT_SET: response.set_error("empty request: set one of status, watch_events, set_master_state"); break;
+            case Request::kSetRedState:
+                if (auto error = handler_.set_red_state(request.set_red_state())) {
+                    response.set_error(*error);
+                } else {
+                    response.set_ok(true);
+                }
+                break;
+            case Request::kImageHistory:
+                *response.mutable_image_history() = handler_.image_history(request.image_history());
+                response.set_ok(true);
+                break;
+            case Request::KIND_NOT_SET:
+                response.set_error("empty request: set one of status, watch_events, set_master_state, set_red_state, image_history");
+                break;
         }
         send(response);
     }

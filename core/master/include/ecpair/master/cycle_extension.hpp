@@ -6,6 +6,7 @@
 #include <cstdint>
 
 #include "ecpair/common/bytes.hpp"
+#include "ecpair/master/process_image.hpp"
 #include "ecpair/master/redundant_merge.hpp"
 #include "ecpair/wire/frame.hpp"
 
@@ -26,6 +27,11 @@ public:
 class CycleExtension {
 public:
     virtual ~CycleExtension() = default;
+    // Called every cycle, sending or not, after the returned frames were
+    // completed and before the master applies state and sending requests and
+    // runs the application hook: the place to change role at the cycle
+    // boundary and, while passive, to bring in a mirrored image.
+    virtual void begin_cycle(ProcessImage& image, std::uint64_t cycle) = 0;
     // Called every cycle after the cyclic slave frames, while the master sends.
     virtual void send_frames(FrameSender& sender, std::uint64_t cycle) = 0;
     // The returned copies of a frame sent through FrameSender in the previous cycle.

@@ -46,6 +46,7 @@ struct CycleInfo {
     std::uint64_t cycle = 0;
     eni::SlaveState state = eni::SlaveState::Init;
     bool inputs_valid = false;  // every cyclic frame of the last cycle came back complete
+    bool sending = true;        // false while passive (an INACTIVE master): the image is not ours to write
 };
 
 enum class RingState : std::uint8_t { Unknown, Closed, Broken };
@@ -97,6 +98,8 @@ public:
     void request_state(eni::SlaveState state) { requested_state_.store(state); }
     void set_link_state(LinkRole role, bool up);
     void set_sending(bool enabled) { sending_requested_.store(enabled); }
+    // The cycle counter (advanced by run_cycle).
+    std::uint64_t cycle() const { return cycle_counter_.load(); }
     bool sending() const { return sending_.load(); }
     RingState ring_state() const { return ring_state_.load(); }
     // Slaves reachable from MAIN while the ring is broken (from a BRD's WKC), nullopt when unknown.
@@ -176,6 +179,7 @@ private:
     ImageSnapshot snapshot_;
     std::atomic<eni::SlaveState> state_{eni::SlaveState::Init};
     std::atomic<eni::SlaveState> requested_state_{eni::SlaveState::Init};
+    std::atomic<std::uint64_t> cycle_counter_{0};
     std::atomic<bool> sending_{true};
     std::atomic<bool> sending_requested_{true};
     std::array<std::atomic<bool>, 2> link_up_{};

@@ -97,6 +97,10 @@ public:
 
     // Non-blocking: records the target; the worker gets there (or fails).
     void request(MasterState target);
+    // Takes `state` as reached without running any transition: a hot-standby
+    // takeover, where the partner already brought the slaves there. Meant for
+    // an idle machine (an INACTIVE master's sequences stop at once).
+    void adopt(MasterState state);
 
     MasterState target() const;
     MasterState current() const;

@@ -65,8 +65,6 @@ public:
     void on_reply_read(MailboxOutbox& outbox) override;
     void on_stopped() override;
 
-    const ObjectDictionary& dictionary() const { return dictionary_; }
-
 private:
     void handle_coe(ConstBytes body, MailboxOutbox& outbox);
     void reply_error(std::uint16_t detail, MailboxOutbox& outbox);

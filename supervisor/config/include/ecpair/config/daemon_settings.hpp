@@ -15,6 +15,15 @@ namespace ecpair::config {
 
 enum class DemoKind : std::uint8_t { None, WalkingBit, LoopbackCheck };
 
+struct RedundancySettings {
+    bool enabled = false;
+    bool start_active = false;
+    std::uint32_t master_pd_out_size = 0;
+    std::uint32_t master_pd_in_size = 0;
+    bool update_slave_pd_in = true;
+    bool update_slave_pd_out = true;
+};
+
 struct DaemonSettings {
     std::string name = "ecpaird";
     std::string main_interface;
@@ -33,6 +42,7 @@ struct DaemonSettings {
     std::uint32_t max_acyclic_frames_per_cycle = 2;
     int realtime_priority = 80;
     std::string log_level = "info";
+    RedundancySettings redundancy;
 };
 
 struct ConfigError {

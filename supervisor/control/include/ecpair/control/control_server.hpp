@@ -25,6 +25,8 @@ public:
     virtual StatusReply status(const StatusRequest& request) = 0;
     // nullopt when accepted, else why not.
     virtual std::optional<std::string> set_master_state(const SetMasterStateRequest& request) = 0;
+    virtual std::optional<std::string> set_red_state(const SetRedStateRequest& request) = 0;
+    virtual ImageHistoryReply image_history(const ImageHistoryRequest& request) = 0;
 };
 
 struct SocketSettings {
