@@ -62,6 +62,7 @@ cat >"$work/m1.textproto" <<CONF
 name: "m1"
 interfaces { main: "m1-main" red: "m1-red" }
 eni_path: "$eni"
+cycle_time_us: 1000
 cable_redundancy: true
 split_lrw: true
 demo { kind: LOOPBACK_CHECK step_cycles: 50 }

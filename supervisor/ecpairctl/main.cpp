@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "daemon_commands.hpp"
+#include "ecpair/common/log.hpp"
 #include "eni_command.hpp"
 #include "scan_command.hpp"
 
@@ -34,6 +35,8 @@ int main(int argc, char** argv) {
         print_usage(std::cerr);
         return kUsage;
     }
+    // Library logs are for problems here: an operator's command prints its own results.
+    ecpair::set_log_level("warn");
     const std::string command = argv[1];
     const std::vector<std::string> args(argv + 2, argv + argc);
     if (command == "eni") return ecpair::ctl::run_eni_command(args, std::cout, std::cerr);
