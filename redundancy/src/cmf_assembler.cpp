@@ -41,6 +41,8 @@ CmfAssembler::CmfAssembler(CmfPlan expected) : plan_(std::move(expected)) {
 }
 
 Expected<CmfAssembler::Outcome, CmfError> CmfAssembler::feed(const wire::ConstDatagramView& datagram) {
+    // The address alone decides whether a datagram is ours to judge: at the
+    // CMF address, a wrong magic is an error, not someone else's datagram.
     if (datagram.command() != wire::Command::Nop ||
         datagram.address() != wire::DatagramHeader::physical(0, wire::reg::kMasterRedAdo)) {
         return Outcome::NotCmf;

@@ -79,9 +79,7 @@ int Daemon::open() {
     master_ = std::move(*created);
 
     demo_ = std::make_unique<DemoApplication>(*eni_, settings_.demo, settings_.demo_step_cycles);
-    master_->set_cycle_hook([this](master::ProcessImage& image, const master::CycleInfo& info) {
-        demo_->on_cycle(image, info);
-    });
+    master_->set_cycle_hook([this](master::ProcessImage& image, const master::CycleInfo& info) { on_cycle(image, info); });
 
     sequencer::StateMachineHooks hooks;
     hooks.request_cyclic_state = [this](eni::SlaveState s) { master_->request_state(s); };
@@ -95,6 +93,7 @@ int Daemon::open() {
         }
     };
     state_machine_ = std::make_unique<sequencer::MasterStateMachine>(eni_, master_->bus(), std::move(hooks), &events_);
+    if (const int rc = open_redundancy(); rc != kOk) return rc;
     slave_monitor_ = std::make_unique<sequencer::SlaveMonitor>(eni_, master_->bus(), master_->slaves(), &events_, [this] {
         return master_->state() != eni::SlaveState::Init;  // station addresses are assigned from PREOP on
     });
@@ -105,7 +104,8 @@ int Daemon::open() {
     cycle_thread_ = std::make_unique<master::CycleThread>(
         cycle, [this](link::Clock::time_point deadline) { master_->run_cycle(deadline); });
 
-    operator_service_ = std::make_unique<OperatorService>(settings_, *master_, *state_machine_, *cycle_thread_, *demo_);
+    operator_service_ = std::make_unique<OperatorService>(settings_, *master_, *state_machine_, *cycle_thread_, *demo_,
+                                                          redundancy_.get());
     control_server_ = std::make_unique<control::ControlServer>(
         io_, *operator_service_, control::SocketSettings{settings_.control_path, settings_.control_mode, settings_.control_group});
     if (auto opened = control_server_->open(); !opened) {
@@ -124,7 +124,13 @@ void Daemon::start_threads() {
     auto add_receiver = [this](link::Link& link, master::LinkRole role) {
         receive_threads_.push_back(std::make_unique<master::ReceiveThread>(
             link,
-            [this, role](ConstBytes frame, link::Clock::time_point at) { master_->on_frame(role, frame, at); },
+            [this, role](ConstBytes frame, link::Clock::time_point at) {
+                if (redundancy_) {
+                    redundancy_->on_frame(role, frame, at);
+                } else {
+                    master_->on_frame(role, frame, at);
+                }
+            },
             fmt::format("ecpair-rx-{}", role == master::LinkRole::Main ? "main" : "red"),
             // Just below the cycle: returned frames must be in the ring before the next cycle.
             std::max(settings_.realtime_priority - 1, 0)));
@@ -140,6 +146,7 @@ void Daemon::start_threads() {
 
 void Daemon::stop_threads() {
     stopping_ = true;
+    topology_verifier_.reset();
     slave_monitor_.reset();
     state_machine_.reset();  // cancels a running sequence (its requests fail when the cycle stops)
     if (cycle_thread_) cycle_thread_->stop();
@@ -162,15 +169,75 @@ void Daemon::watch_links() {
         for (const auto& change : link_monitor_->read_changes()) {
             const auto role = change.interface == settings_.main_interface ? master::LinkRole::Main : master::LinkRole::Red;
             log()->info("link {} ({}) {}", master::to_string(role), change.interface, change.up ? "up" : "down");
-            master_->set_link_state(role, change.up);
+            if (redundancy_) {
+                redundancy_->set_link_state(role, change.up);
+            } else {
+                master_->set_link_state(role, change.up);
+            }
         }
         watch_links();
     });
 }
 
+int Daemon::open_redundancy() {
+    if (!settings_.redundancy.enabled) return kOk;
+    const auto& r = settings_.redundancy;
+    redundancy::RedundancyOptions options;
+    options.start_active = r.start_active;
+    auto& p = options.parameters;
+    p.eni_content_hash = eni_->content_hash;
+    p.cycle_time = master_->options().cycle_time;
+    p.cable_redundancy = settings_.cable_redundancy;
+    p.split_lrw = settings_.split_lrw;
+    p.master_pd_out_size = r.master_pd_out_size;
+    p.master_pd_in_size = r.master_pd_in_size;
+    p.update_slave_pd_in = r.update_slave_pd_in;
+    p.update_slave_pd_out = r.update_slave_pd_out;
+    p.max_acyc_frames_per_cycle = static_cast<std::uint16_t>(settings_.max_acyclic_frames_per_cycle);
+    auto created = redundancy::RedundancyController::create(*master_, options, events_);
+    if (!created) {
+        log()->error("{}", created.error());
+        return kBadConfig;
+    }
+    redundancy_ = std::move(*created);
+    redundancy_->set_on_role_change([this](const redundancy::RoleChange& change) { on_role_change(change); });
+    topology_verifier_ = std::make_unique<redundancy::TopologyVerifier>(eni_, master_->bus(), events_);
+    return kOk;
+}
+
+// On the cycle thread, at the boundary where the role changed: hand the work
+// to the control thread at once.
+void Daemon::on_role_change(const redundancy::RoleChange& change) {
+    boost::asio::post(io_, [this, change] {
+        if (change.to == redundancy::RedState::Inactive) return;  // sequences stop on their own (bus refused)
+        if (change.hot) {
+            if (const auto state = sequencer::to_master_state(change.master_state)) state_machine_->adopt(*state);
+            topology_verifier_->verify(master_->slaves().snapshot());
+        } else {
+            state_machine_->request(*sequencer::to_master_state(settings_.target_state));
+        }
+    });
+}
+
+// The application of the cycle: the demo, and in a pair the master-to-master
+// process data (the ACTIVE sends its cycle counter, the INACTIVE echoes what it got).
+void Daemon::on_cycle(master::ProcessImage& image, const master::CycleInfo& info) {
+    demo_->on_cycle(image, info);
+    if (!redundancy_) return;
+    if (info.sending) {
+        auto out = redundancy_->master_pd_out();
+        for (std::size_t i = 0; i < out.size() && i < 8; ++i) out[i] = static_cast<std::uint8_t>(info.cycle >> (8 * i));
+    } else {
+        redundancy_->set_master_pd_in(redundancy_->received_master_pd_out());
+    }
+}
+
 int Daemon::run() {
     start_threads();
-    state_machine_->request(*sequencer::to_master_state(settings_.target_state));
+    // A pair member that starts INACTIVE waits for its role: its partner drives the slaves.
+    if (!redundancy_ || redundancy_->state() == redundancy::RedState::Active) {
+        state_machine_->request(*sequencer::to_master_state(settings_.target_state));
+    }
 
     boost::asio::signal_set signals(io_, SIGINT, SIGTERM);
     signals.async_wait([this](const boost::system::error_code& ec, int signal) {

@@ -22,6 +22,8 @@
 #include "ecpair/master/cycle_thread.hpp"
 #include "ecpair/master/master.hpp"
 #include "ecpair/master/receive_thread.hpp"
+#include "ecpair/redundancy/redundancy_controller.hpp"
+#include "ecpair/redundancy/topology_verifier.hpp"
 #include "ecpair/sequencer/master_state_machine.hpp"
 #include "ecpair/sequencer/slave_monitor.hpp"
 #include "operator_service.hpp"
@@ -50,6 +52,9 @@ private:
     void pump_events();
     std::chrono::microseconds cycle_time() const;
     int open_links();
+    int open_redundancy();
+    void on_role_change(const redundancy::RoleChange& change);
+    void on_cycle(master::ProcessImage& image, const master::CycleInfo& info);
 
     config::DaemonSettings settings_;
     std::shared_ptr<const eni::EniConfig> eni_;
@@ -61,6 +66,8 @@ private:
     std::unique_ptr<DemoApplication> demo_;
     std::unique_ptr<sequencer::MasterStateMachine> state_machine_;
     std::unique_ptr<sequencer::SlaveMonitor> slave_monitor_;
+    std::unique_ptr<redundancy::RedundancyController> redundancy_;  // only in a redundant pair
+    std::unique_ptr<redundancy::TopologyVerifier> topology_verifier_;
     std::unique_ptr<master::CycleThread> cycle_thread_;
     std::vector<std::unique_ptr<master::ReceiveThread>> receive_threads_;
 

@@ -74,6 +74,23 @@ control::StatusReply OperatorService::status(const control::StatusRequest& reque
         add_variables(master_.image(), master::ImageSection::Outputs, snapshot.outputs, request.max_variables(),
                       *reply.mutable_outputs());
     }
+    if (redundancy_) {
+        const auto r = redundancy_->snapshot();
+        auto* out = reply.mutable_redundancy();
+        out->set_enabled(true);
+        out->set_red_state(std::string(redundancy::to_string(r.state)));
+        out->set_partner_seen(r.partner_seen);
+        if (r.partner_mismatch) out->set_partner_mismatch(*r.partner_mismatch);
+        out->set_mirrored_cycle(r.mirrored_cycle);
+        out->set_master_pd_out(std::string(r.master_pd_out.begin(), r.master_pd_out.end()));
+        out->set_master_pd_in(std::string(r.master_pd_in.begin(), r.master_pd_in.end()));
+        out->set_forwarded_main(r.forwarding.forwarded_red_to_main);
+        out->set_forwarded_red(r.forwarding.forwarded_main_to_red);
+        out->set_bounced(r.forwarding.bounced);
+        out->set_dropped_circulating(r.forwarding.dropped_circulating);
+        out->set_dropped_non_ethercat(r.forwarding.dropped_non_ethercat);
+        out->set_dropped_damaged(r.forwarding.dropped_damaged);
+    }
     const auto loop = demo_.stats();
     auto* l = reply.mutable_loopback();
     l->set_cycles_checked(loop.cycles_checked);
@@ -99,11 +116,35 @@ std::optional<std::string> OperatorService::set_master_state(const control::SetM
     return "state: '" + request.state() + "' is not one of INIT, PREOP, SAFEOP, OP";
 }
 
-std::optional<std::string> OperatorService::set_red_state(const control::SetRedStateRequest&) {
-    return "this controller is not part of a redundant pair (redundancy.enabled is off)";
+std::optional<std::string> OperatorService::set_red_state(const control::SetRedStateRequest& request) {
+    if (!redundancy_) return "this controller is not part of a redundant pair (redundancy.enabled is off)";
+    std::string name = request.state();
+    std::transform(name.begin(), name.end(), name.begin(), [](unsigned char c) { return static_cast<char>(std::toupper(c)); });
+    if (name == "ACTIVE") {
+        redundancy_->request(redundancy::RedState::Active);
+    } else if (name == "INACTIVE") {
+        redundancy_->request(redundancy::RedState::Inactive);
+    } else {
+        return "state: '" + request.state() + "' is not ACTIVE or INACTIVE";
+    }
+    return std::nullopt;
 }
 
-control::ImageHistoryReply OperatorService::image_history(const control::ImageHistoryRequest&) { return {}; }
+control::ImageHistoryReply OperatorService::image_history(const control::ImageHistoryRequest& request) {
+    control::ImageHistoryReply reply;
+    if (!redundancy_) return reply;
+    const auto records = redundancy_->history().snapshot();
+    const std::size_t first =
+        request.max_entries() > 0 && records.size() > request.max_entries() ? records.size() - request.max_entries() : 0;
+    for (std::size_t i = first; i < records.size(); ++i) {
+        auto* e = reply.add_entries();
+        e->set_cycle(records[i].cycle);
+        e->set_inputs_crc(records[i].inputs_crc);
+        e->set_outputs_crc(records[i].outputs_crc);
+        e->set_master_state(std::string(eni::to_string(records[i].master_state)));
+    }
+    return reply;
+}
 
 control::EventMessage to_message(const master::Event& event) {
     control::EventMessage m;

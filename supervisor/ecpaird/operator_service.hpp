@@ -10,6 +10,7 @@
 #include "ecpair/control/control_server.hpp"
 #include "ecpair/master/cycle_thread.hpp"
 #include "ecpair/master/master.hpp"
+#include "ecpair/redundancy/redundancy_controller.hpp"
 #include "ecpair/sequencer/master_state_machine.hpp"
 
 namespace ecpair::daemon {
@@ -18,8 +19,13 @@ class OperatorService final : public control::ControlHandler {
 public:
     OperatorService(const config::DaemonSettings& settings, master::Master& master,
                     sequencer::MasterStateMachine& state_machine, const master::CycleThread& cycle_thread,
-                    const DemoApplication& demo)
-        : settings_(settings), master_(master), state_machine_(state_machine), cycle_thread_(cycle_thread), demo_(demo) {}
+                    const DemoApplication& demo, redundancy::RedundancyController* redundancy)
+        : settings_(settings),
+          master_(master),
+          state_machine_(state_machine),
+          cycle_thread_(cycle_thread),
+          demo_(demo),
+          redundancy_(redundancy) {}
 
     control::StatusReply status(const control::StatusRequest& request) override;
     std::optional<std::string> set_master_state(const control::SetMasterStateRequest& request) override;
@@ -32,6 +38,7 @@ private:
     sequencer::MasterStateMachine& state_machine_;
     const master::CycleThread& cycle_thread_;
     const DemoApplication& demo_;
+    redundancy::RedundancyController* redundancy_;  // null outside a pair
 };
 
 // The event as the operator API carries it.

@@ -53,8 +53,9 @@ void SlaveMonitor::poll_once() {
         }
         const auto previous = image_.set(i, entry);
         if (previous.present != entry.present) {
-            logger("slaves")->warn("slave {} '{}' (station {}) is {}", i, eni_->slaves[i].info.name, station,
-                                   entry.present ? "present" : "absent");
+            logger("slaves")->log(entry.present ? spdlog::level::info : spdlog::level::warn,
+                                  "slave {} '{}' (station {}) is {}", i, eni_->slaves[i].info.name, station,
+                                  entry.present ? "present" : "absent");
             raise(master::EventKind::SlavePresence, static_cast<std::uint32_t>(i), entry.present ? 1 : 0);
         }
         const wire::AlStatus status{entry.al_status};

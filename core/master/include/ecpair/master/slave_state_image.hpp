@@ -27,6 +27,11 @@ public:
         std::lock_guard lock(mutex_);
         return entries_;
     }
+    // Copies into `out` (no allocation once `out` has the size).
+    void copy_to(std::vector<SlaveStateEntry>& out) const {
+        std::lock_guard lock(mutex_);
+        out.assign(entries_.begin(), entries_.end());
+    }
     SlaveStateEntry get(std::size_t index) const {
         std::lock_guard lock(mutex_);
         return entries_[index];
@@ -40,7 +45,7 @@ public:
     }
     void assign(const std::vector<SlaveStateEntry>& entries) {
         std::lock_guard lock(mutex_);
-        entries_ = entries;
+        entries_.assign(entries.begin(), entries.end());
     }
 
 private:

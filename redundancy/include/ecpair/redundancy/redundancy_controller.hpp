@@ -1,0 +1,148 @@
+#pragma once
+// One master of a redundant pair (design.md §1, §4). The controller decides
+// what the master's frames and images are for in each role:
+//
+//   ACTIVE    the master owns the bus; after its cyclic slave frames the
+//             controller sends the Cyclic Master Red Frame (CMF) on MAIN and
+//             RED and reads the partner's answer from its returns.
+//   INACTIVE  the master sends nothing and refuses to talk to slaves; every
+//             frame that arrives is forwarded at once (StoreAndForward), the
+//             CMF processed on the way, and the mirror brings the ACTIVE's
+//             state, slave state image and process image into this master
+//             every cycle (hot standby).
+//
+// Role requests are applied at the next cycle boundary (begin_cycle);
+// requesting the current role does nothing. Becoming ACTIVE from a fresh
+// mirror is a hot takeover: process data goes out from the mirrored image in
+// that same cycle, the slaves keep their state, and the topology is known
+// from the mirrored slave state image (a background scan verifies it).
+// Giving up ACTIVE stops all sending at the next boundary and fails the
+// pending acyclic requests with MasterRedStateInactive.
+
+#include <array>
+#include <atomic>
+#include <chrono>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "ecpair/common/expected.hpp"
+#include "ecpair/master/cycle_extension.hpp"
+#include "ecpair/master/master.hpp"
+#include "ecpair/redundancy/cmf_writer.hpp"
+#include "ecpair/redundancy/image_history.hpp"
+#include "ecpair/redundancy/pair_parameters.hpp"
+#include "ecpair/redundancy/store_and_forward.hpp"
+
+namespace ecpair::redundancy {
+
+class Mirror;
+struct MirroredCycle;
+
+enum class RedState : std::uint8_t { Inactive = 0, Active = 1 };
+std::string_view to_string(RedState state);
+
+struct RedundancyOptions {
+    bool start_active = false;
+    PairParameters parameters;  // what this master and its partner must agree on
+    // A mirror older than this is no basis for a hot takeover (then: cold start).
+    std::chrono::milliseconds mirror_fresh{200};
+    // The ACTIVE calls its partner lost after this long without an answer in the CMF.
+    std::chrono::milliseconds partner_silence{100};
+};
+
+struct RoleChange {
+    RedState from;
+    RedState to;
+    bool hot = false;                                      // took over from a fresh mirror
+    eni::SlaveState master_state = eni::SlaveState::Init;  // the mirrored state (hot takeover)
+};
+
+struct RedundancySnapshot {
+    RedState state = RedState::Inactive;
+    bool partner_seen = false;
+    std::optional<std::string> partner_mismatch;
+    std::uint64_t mirrored_cycle = 0;
+    std::vector<std::uint8_t> master_pd_out;  // ACTIVE: sent; INACTIVE: received
+    std::vector<std::uint8_t> master_pd_in;   // ACTIVE: received; INACTIVE: sent
+    StoreAndForwardCounters forwarding;
+};
+
+class RedundancyController final : public master::CycleExtension {
+public:
+    static Expected<std::unique_ptr<RedundancyController>, std::string> create(master::Master& master,
+                                                                              const RedundancyOptions& options,
+                                                                              master::EventQueue& events);
+    ~RedundancyController() override;
+
+    // ---- any thread
+    void request(RedState state);
+    RedState state() const { return state_.load(); }
+    RedundancySnapshot snapshot() const;
+    const ImageHistory& history() const { return history_; }
+    // Called on the cycle thread right after a role change took effect; must not block.
+    void set_on_role_change(std::function<void(const RoleChange&)> callback) { on_role_change_ = std::move(callback); }
+
+    // ---- receive threads: every frame of a link goes through here
+    void on_frame(master::LinkRole arrived_on, ConstBytes frame, link::Clock::time_point received_at);
+    void set_link_state(master::LinkRole role, bool up);
+
+    // ---- cycle thread (the application's hook)
+    // ACTIVE: the bytes it sends its partner this cycle / the partner's last answer.
+    Bytes master_pd_out() { return master_pd_out_; }
+    ConstBytes master_pd_in() const { return master_pd_in_; }
+    // INACTIVE: what the ACTIVE sent last / what to answer.
+    ConstBytes received_master_pd_out() const;
+    void set_master_pd_in(ConstBytes data);
+
+    // ---- master::CycleExtension (cycle thread)
+    void begin_cycle(master::ProcessImage& image, std::uint64_t cycle) override;
+    void send_frames(master::FrameSender& sender, std::uint64_t cycle) override;
+    void complete(std::uint16_t index, const master::ReturnedCopy& main_copy,
+                  const master::ReturnedCopy& red_copy) override;
+
+private:
+    RedundancyController(master::Master& master, const RedundancyOptions& options, master::EventQueue& events,
+                         CmfPlan plan);
+
+    void change_role(RedState to, master::ProcessImage& image);
+    void apply_mirror(master::ProcessImage& image);
+    bool mirror_fresh() const;
+    void read_partner_answer(ConstBytes frame);
+    void raise(master::EventKind kind, std::uint32_t a = 0, std::uint32_t b = 0);
+
+    master::Master& master_;
+    RedundancyOptions options_;
+    master::EventQueue& events_;
+    CmfWriter writer_;
+    ImageHistory history_;
+    std::unique_ptr<Mirror> mirror_;
+    StoreAndForward forwarding_;
+
+    std::atomic<RedState> state_{RedState::Inactive};
+    std::atomic<RedState> requested_{RedState::Inactive};
+    std::function<void(const RoleChange&)> on_role_change_;
+
+    // Cycle thread.
+    master::ProcessImage* image_ = nullptr;
+    std::uint64_t cycle_ = 0;
+    std::unique_ptr<MirroredCycle> mirrored_;  // the newest mirrored cycle taken
+    std::vector<master::SlaveStateEntry> slaves_;
+    std::vector<std::uint8_t> master_pd_out_;
+    std::vector<std::uint8_t> master_pd_in_;
+    std::chrono::steady_clock::time_point partner_last_seen_{};
+    bool partner_seen_ = false;
+
+    // Shared with the receive threads (the INACTIVE's answer goes into forwarded CMFs).
+    mutable std::mutex pd_in_mutex_;
+    std::vector<std::uint8_t> pd_in_to_send_;
+    // For snapshot() from other threads.
+    mutable std::mutex status_mutex_;
+    RedundancySnapshot status_;
+};
+
+}  // namespace ecpair::redundancy
