@@ -94,10 +94,30 @@ void Mirror::publish(master::LinkRole arrived_on) {
     history_.record(latest_.cycle, latest_.inputs, latest_.outputs, latest_.master_state);
 }
 
+namespace {
+
+std::uint32_t difference_mask(const PairParameters& ours, const PairParameters& theirs) {
+    std::uint32_t mask = 0;
+    if (ours.eni_content_hash != theirs.eni_content_hash) mask |= master::kDiffersEni;
+    if (ours.cycle_time != theirs.cycle_time) mask |= master::kDiffersCycleTime;
+    if (ours.cable_redundancy != theirs.cable_redundancy) mask |= master::kDiffersCableRedundancy;
+    if (ours.split_lrw != theirs.split_lrw) mask |= master::kDiffersSplitLrw;
+    if (ours.master_pd_out_size != theirs.master_pd_out_size) mask |= master::kDiffersMasterPdOut;
+    if (ours.master_pd_in_size != theirs.master_pd_in_size) mask |= master::kDiffersMasterPdIn;
+    if (ours.update_slave_pd_in != theirs.update_slave_pd_in) mask |= master::kDiffersUpdateSlavePdIn;
+    if (ours.update_slave_pd_out != theirs.update_slave_pd_out) mask |= master::kDiffersUpdateSlavePdOut;
+    if (ours.max_acyc_frames_per_cycle != theirs.max_acyc_frames_per_cycle) mask |= master::kDiffersMaxAcycFrames;
+    return mask == 0 ? master::kDiffersLayout : mask;
+}
+
+}  // namespace
+
 void Mirror::report_mismatch(master::LinkRole arrived_on) {
-    const auto& header = links_[index(arrived_on)].assembler.last_header();
+    const auto& assembler = links_[index(arrived_on)].assembler;
+    const auto& header = assembler.last_header();
     if (!header) return;
-    const auto differs = differences(links_[index(arrived_on)].assembler.plan().layout().parameters, header->parameters);
+    const auto& ours = assembler.plan().layout().parameters;
+    const auto differs = differences(ours, header->parameters);
     std::string text = differs.empty() ? std::string("the CMF layout (slave count or image sizes)")
                                        : fmt::format("{}", fmt::join(differs, "; "));
     std::lock_guard lock(mutex_);
@@ -105,7 +125,7 @@ void Mirror::report_mismatch(master::LinkRole arrived_on) {
     mismatch_ = text;
     logger("mirror")->error("the partner differs, not mirroring it (cold standby): {}", text);
     events_.push(master::Event{master::EventKind::PartnerMismatch, 0, std::chrono::system_clock::now(),
-                               static_cast<std::uint32_t>(differs.size()), 0, 0, 0});
+                               difference_mask(ours, header->parameters), 0, 0, 0});
 }
 
 void Mirror::reset() {

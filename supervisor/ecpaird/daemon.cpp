@@ -84,14 +84,7 @@ int Daemon::open() {
     sequencer::StateMachineHooks hooks;
     hooks.request_cyclic_state = [this](eni::SlaveState s) { master_->request_state(s); };
     hooks.cyclic_state = [this] { return master_->state(); };
-    hooks.on_done = [](const sequencer::SequenceResult& result) {
-        if (result.error) {
-            log()->error("state machine stopped in {} (target {}): {}", sequencer::to_string(result.reached),
-                         sequencer::to_string(result.target), result.error->message);
-        } else {
-            log()->info("slaves in {}", sequencer::to_string(result.reached));
-        }
-    };
+    hooks.on_done = [this](const sequencer::SequenceResult& result) { on_sequence_done(result); };
     state_machine_ = std::make_unique<sequencer::MasterStateMachine>(eni_, master_->bus(), std::move(hooks), &events_);
     if (const int rc = open_redundancy(); rc != kOk) return rc;
     slave_monitor_ = std::make_unique<sequencer::SlaveMonitor>(eni_, master_->bus(), master_->slaves(), &events_, [this] {
@@ -203,6 +196,34 @@ int Daemon::open_redundancy() {
     redundancy_->set_on_role_change([this](const redundancy::RoleChange& change) { on_role_change(change); });
     topology_verifier_ = std::make_unique<redundancy::TopologyVerifier>(eni_, master_->bus(), events_);
     return kOk;
+}
+
+// On the state machine's worker thread. A master keeps trying to bring its
+// bus up: a failed start (a scan that found nobody, a slave missing, a
+// command that timed out) is tried again a little later, until it works or
+// the target changes. An INACTIVE master or a shutdown ends it quietly.
+void Daemon::on_sequence_done(const sequencer::SequenceResult& result) {
+    if (!result.error) {
+        log()->info("slaves in {}", sequencer::to_string(result.reached));
+        return;
+    }
+    log()->error("state machine stopped in {} (target {}): {}", sequencer::to_string(result.reached),
+                 sequencer::to_string(result.target), result.error->message);
+    switch (result.error->failure) {
+        case sequencer::SequenceFailure::MasterInactive:
+        case sequencer::SequenceFailure::Cancelled:
+        case sequencer::SequenceFailure::Stopped: return;
+        default: break;
+    }
+    boost::asio::post(io_, [this, target = result.target] {
+        retry_timer_.expires_after(kSequenceRetry);
+        retry_timer_.async_wait([this, target](const boost::system::error_code& ec) {
+            if (ec || stopping_ || state_machine_->busy() || state_machine_->target() != target) return;
+            if (redundancy_ && redundancy_->state() != redundancy::RedState::Active) return;
+            log()->info("trying {} again", sequencer::to_string(target));
+            state_machine_->request(target);
+        });
+    });
 }
 
 // On the cycle thread, at the boundary where the role changed: hand the work

@@ -54,6 +54,7 @@ private:
     int open_links();
     int open_redundancy();
     void on_role_change(const redundancy::RoleChange& change);
+    void on_sequence_done(const sequencer::SequenceResult& result);
     void on_cycle(master::ProcessImage& image, const master::CycleInfo& info);
 
     config::DaemonSettings settings_;
@@ -72,6 +73,8 @@ private:
     std::vector<std::unique_ptr<master::ReceiveThread>> receive_threads_;
 
     boost::asio::io_context io_;
+    static constexpr std::chrono::seconds kSequenceRetry{2};
+    boost::asio::steady_timer retry_timer_{io_};
     std::unique_ptr<OperatorService> operator_service_;
     std::unique_ptr<control::ControlServer> control_server_;
     std::optional<boost::asio::posix::stream_descriptor> link_fd_;

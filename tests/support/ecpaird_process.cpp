@@ -1,5 +1,6 @@
 #include "ecpaird_process.hpp"
 
+#include <algorithm>
 #include <fstream>
 #include <stdexcept>
 
@@ -68,6 +69,22 @@ std::string EcpairdProcess::request_state(const std::string& state) const {
     return response->ok() ? std::string() : response->error();
 }
 
+std::string EcpairdProcess::request_red_state(const std::string& state) const {
+    control::Request request;
+    request.mutable_set_red_state()->set_state(state);
+    auto response = control::call(socket().string(), request);
+    if (!response) return response.error().message;
+    return response->ok() ? std::string() : response->error();
+}
+
+control::ImageHistoryReply EcpairdProcess::image_history() const {
+    control::Request request;
+    request.mutable_image_history();
+    auto response = control::call(socket().string(), request);
+    if (!response) throw std::runtime_error(response.error().message);
+    return response->image_history();
+}
+
 EventRecorder::EventRecorder(std::filesystem::path socket) : socket_(std::move(socket)) {
     thread_ = std::thread([this] {
         control::Request request;
@@ -78,8 +95,14 @@ EventRecorder::EventRecorder(std::filesystem::path socket) : socket_(std::move(s
                 socket_.string(), request,
                 [this](const control::Response& r) {
                     if (r.has_event()) {
+                        // Every new connection replays the daemon's backlog: keep each event once.
+                        const auto& e = r.event();
                         std::lock_guard lock(mutex_);
-                        events_.push_back(r.event());
+                        const bool seen = std::any_of(events_.begin(), events_.end(), [&e](const auto& known) {
+                            return known.unix_time_ms() == e.unix_time_ms() && known.cycle() == e.cycle() &&
+                                   known.kind() == e.kind() && known.text() == e.text();
+                        });
+                        if (!seen) events_.push_back(e);
                     }
                     return !stop_.load();
                 },

@@ -47,6 +47,9 @@ public:
                                                  std::chrono::milliseconds timeout) const;
     // Asks for a master state through the operator API; empty when accepted.
     std::string request_state(const std::string& state) const;
+    // Asks for ACTIVE or INACTIVE; empty when accepted.
+    std::string request_red_state(const std::string& state) const;
+    control::ImageHistoryReply image_history() const;
 
 private:
     EcpairdSettings settings_;

@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cstdio>
+#include <cstdlib>
 #include <stdexcept>
 
 namespace ecpair::test {
@@ -57,6 +58,14 @@ std::size_t count_malformed_ethercat_frames(const std::filesystem::path& capture
                                         "frame.number"});
     if (r.exit_status != 0) throw std::runtime_error("tshark failed on " + capture.string());
     return r.lines.size();
+}
+
+int capture(const std::string& netns, const std::string& interface, int seconds, const std::filesystem::path& file) {
+    const std::string command = "ip netns exec " + quoted(netns) + " tshark -q -i " + quoted(interface) +
+                                " -f 'ether proto 0x88a4' -a duration:" + std::to_string(seconds) + " -w " +
+                                quoted(file.string()) + " >/dev/null 2>&1";
+    const int status = std::system(command.c_str());
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
 }  // namespace ecpair::test

@@ -22,4 +22,8 @@ std::size_t count_ethercat_frames(const std::filesystem::path& capture);
 // EtherCAT frames that tshark's dissector flags as malformed (_ws.malformed).
 std::size_t count_malformed_ethercat_frames(const std::filesystem::path& capture);
 
+// Captures EtherCAT frames on an interface of a namespace for `seconds`
+// (tshark -i ... -a duration:N) into `file`. Returns tshark's exit status.
+int capture(const std::string& netns, const std::string& interface, int seconds, const std::filesystem::path& file);
+
 }  // namespace ecpair::test

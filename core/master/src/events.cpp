@@ -11,6 +11,28 @@ std::string role_name(std::uint32_t role) { return role == 0 ? "MAIN" : "RED"; }
 
 std::string state_name(std::uint32_t state) { return wire::al_state_name(static_cast<std::uint8_t>(state)); }
 
+std::string partner_differences(std::uint32_t mask) {
+    static constexpr std::pair<std::uint32_t, const char*> kNames[] = {
+        {kDiffersEni, "ENI"},
+        {kDiffersCycleTime, "cycle time"},
+        {kDiffersCableRedundancy, "cable redundancy"},
+        {kDiffersSplitLrw, "split_lrw"},
+        {kDiffersMasterPdOut, "master_pd_out_size"},
+        {kDiffersMasterPdIn, "master_pd_in_size"},
+        {kDiffersUpdateSlavePdIn, "update_slave_pd_in"},
+        {kDiffersUpdateSlavePdOut, "update_slave_pd_out"},
+        {kDiffersMaxAcycFrames, "max_acyc_frames_per_cycle"},
+        {kDiffersLayout, "the CMF layout (slave count or image sizes)"},
+    };
+    std::string text;
+    for (const auto& [bit, name] : kNames) {
+        if ((mask & bit) == 0) continue;
+        if (!text.empty()) text += ", ";
+        text += name;
+    }
+    return text.empty() ? std::string("something") : text;
+}
+
 }  // namespace
 
 std::string_view to_string(EventKind kind) {
@@ -79,8 +101,10 @@ std::string describe(const Event& e) {
                                         e.b == 0 ? "INACTIVE" : "ACTIVE");
         case EventKind::PartnerLost: return prefix + "partner lost";
         case EventKind::PartnerFound: return prefix + "partner found";
-        case EventKind::PartnerMismatch: return prefix + fmt::format("partner differs (mask 0x{:x})", e.a);
-        case EventKind::Takeover: return prefix + "takeover: now ACTIVE";
+        case EventKind::PartnerMismatch: return prefix + "partner differs in: " + partner_differences(e.a);
+        case EventKind::Takeover:
+            return prefix + (e.a != 0 ? fmt::format("hot takeover: now ACTIVE in {}", state_name(e.b))
+                                      : std::string("cold takeover: now ACTIVE, starting from INIT"));
         case EventKind::HandOff: return prefix + "hand-off";
         case EventKind::TopologyVerified:
             return prefix + fmt::format("background scan {} the mirrored topology", e.a != 0 ? "confirms" : "contradicts");

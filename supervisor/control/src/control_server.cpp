@@ -29,8 +29,8 @@ using stream_protocol = asio::local::stream_protocol;
 
 class ControlServer::Session : public std::enable_shared_from_this<Session> {
 public:
-    Session(stream_protocol::socket socket, ControlHandler& handler)
-        : socket_(std::move(socket)), handler_(handler) {}
+    Session(stream_protocol::socket socket, ControlHandler& handler, const std::deque<EventMessage>& backlog)
+        : socket_(std::move(socket)), handler_(handler), backlog_(backlog) {}
 
     void start() { read(); }
     bool watching() const { return watching_; }
@@ -76,7 +76,14 @@ private:
             case Request::kWatchEvents:
                 watching_ = true;
                 response.set_ok(true);
-                break;
+                send(response);
+                for (const auto& event : backlog_) {
+                    Response past;
+                    past.set_ok(true);
+                    *past.mutable_event() = event;
+                    send(past);
+                }
+                return;
             case Request::kSetMasterState:
                 if (auto error = handler_.set_master_state(request.set_master_state())) {
                     response.set_error(*error);
@@ -125,6 +132,7 @@ private:
 
     stream_protocol::socket socket_;
     ControlHandler& handler_;
+    const std::deque<EventMessage>& backlog_;
     std::array<char, 4096> buffer_{};
     DelimitedReader reader_;
     std::deque<std::string> outbox_;
@@ -177,7 +185,7 @@ Expected<void, std::string> ControlServer::open() {
 void ControlServer::accept() {
     acceptor_.async_accept([this](const boost::system::error_code& ec, stream_protocol::socket socket) {
         if (ec) return;  // closed
-        auto session = std::make_shared<Session>(std::move(socket), handler_);
+        auto session = std::make_shared<Session>(std::move(socket), handler_, backlog_);
         std::erase_if(sessions_, [](const std::weak_ptr<Session>& s) { return s.expired(); });
         sessions_.push_back(session);
         session->start();
@@ -186,6 +194,8 @@ void ControlServer::accept() {
 }
 
 void ControlServer::publish(const EventMessage& event) {
+    backlog_.push_back(event);
+    if (backlog_.size() > kBacklog) backlog_.pop_front();
     Response response;
     response.set_ok(true);
     *response.mutable_event() = event;

@@ -31,11 +31,23 @@ enum class EventKind : std::uint8_t {
     RedStateChanged,      // a = from, b = to (redundancy::RedState)
     PartnerLost,
     PartnerFound,
-    PartnerMismatch,      // a = what differs (bit set)
-    Takeover,             // a = cycles without data
+    PartnerMismatch,      // a = what differs (kDiffers* bits)
+    Takeover,             // a = 1 hot / 0 cold, b = the master state taken over
     HandOff,
     TopologyVerified,     // a = 1 if the background scan matches the mirrored image
 };
+
+// What differs from a redundant partner (EventKind::PartnerMismatch, a).
+inline constexpr std::uint32_t kDiffersEni = 1u << 0;
+inline constexpr std::uint32_t kDiffersCycleTime = 1u << 1;
+inline constexpr std::uint32_t kDiffersCableRedundancy = 1u << 2;
+inline constexpr std::uint32_t kDiffersSplitLrw = 1u << 3;
+inline constexpr std::uint32_t kDiffersMasterPdOut = 1u << 4;
+inline constexpr std::uint32_t kDiffersMasterPdIn = 1u << 5;
+inline constexpr std::uint32_t kDiffersUpdateSlavePdIn = 1u << 6;
+inline constexpr std::uint32_t kDiffersUpdateSlavePdOut = 1u << 7;
+inline constexpr std::uint32_t kDiffersMaxAcycFrames = 1u << 8;
+inline constexpr std::uint32_t kDiffersLayout = 1u << 9;
 
 enum class FrameResponseReason : std::uint8_t { ForeignSourceMac = 1, Malformed = 2, LateOrStale = 3 };
 

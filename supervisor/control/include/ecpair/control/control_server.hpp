@@ -5,6 +5,7 @@
 // Boost.Asio io_context. The daemon answers through ControlHandler; events
 // are pushed to every client that asked to watch them.
 
+#include <deque>
 #include <memory>
 #include <optional>
 #include <string>
@@ -42,8 +43,11 @@ public:
 
     // Binds and listens (a stale socket file is replaced, a live one refused).
     Expected<void, std::string> open();
-    // Sends an event to every watching client. Call on the io_context's thread.
+    // Sends an event to every watching client and keeps it in the backlog
+    // that a client starting to watch gets first (so nothing that happened
+    // since the daemon started is missed). Call on the io_context's thread.
     void publish(const EventMessage& event);
+    static constexpr std::size_t kBacklog = 256;
     std::size_t clients() const;
 
 private:
@@ -55,6 +59,7 @@ private:
     SocketSettings settings_;
     boost::asio::local::stream_protocol::acceptor acceptor_;
     std::vector<std::weak_ptr<Session>> sessions_;
+    std::deque<EventMessage> backlog_;
 };
 
 }  // namespace ecpair::control
