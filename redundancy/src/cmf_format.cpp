@@ -69,17 +69,6 @@ constexpr std::uint8_t kSlavePresentBit = 0x01;
 
 }  // namespace
 
-std::string_view to_string(CmfKind kind) {
-    switch (kind) {
-        case CmfKind::Header: return "HEADER";
-        case CmfKind::SlaveStateImage: return "SLAVE_STATE_IMAGE";
-        case CmfKind::ShadowInputs: return "SHADOW_INPUTS";
-        case CmfKind::MasterPdOut: return "MASTER_PD_OUT";
-        case CmfKind::MasterPdIn: return "MASTER_PD_IN";
-    }
-    return "UNKNOWN";
-}
-
 std::string_view to_string(CmfErrc code) {
     switch (code) {
         case CmfErrc::Truncated: return "Truncated";

@@ -21,18 +21,6 @@ namespace ecpair::redundancy {
 
 using master::LinkRole;
 
-std::string_view to_string(ForwardOutcome outcome) {
-    switch (outcome) {
-        case ForwardOutcome::Forwarded: return "forwarded";
-        case ForwardOutcome::Bounced: return "bounced";
-        case ForwardOutcome::DroppedCirculating: return "dropped (circulating)";
-        case ForwardOutcome::DroppedNonEtherCat: return "dropped (not EtherCAT)";
-        case ForwardOutcome::DroppedDamaged: return "dropped (damaged)";
-        case ForwardOutcome::SendFailed: return "send failed";
-    }
-    return "unknown";
-}
-
 StoreAndForward::StoreAndForward(link::Link& main, link::Link& red) : links_{&main, &red} {
     link_up_[index(LinkRole::Main)].store(main.link_up());
     link_up_[index(LinkRole::Red)].store(red.link_up());

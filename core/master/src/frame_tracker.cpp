@@ -10,7 +10,9 @@ FrameTracker::FrameTracker(wire::NicBytes main_nic, wire::NicBytes red_nic)
     : main_nic_(main_nic), red_nic_(red_nic), slots_(256) {}
 
 std::uint8_t FrameTracker::open(FrameKind kind, std::uint16_t index, std::uint64_t cycle) {
-    const std::uint8_t id = next_id_++;
+    // Skip ids whose frame is still awaited (an acyclic frame may wait a few cycles).
+    std::uint8_t id = next_id_++;
+    for (int tries = 0; tries < 256 && slots_[id].sent.open; ++tries) id = next_id_++;
     Slot& slot = slots_[id];
     slot.sent = SentFrame{kind, index, cycle, true};
     slot.present = {false, false};

@@ -87,6 +87,8 @@ Master::Master(std::shared_ptr<const eni::EniConfig> eni, const MasterOptions& o
     snapshot_.inputs.assign(image_.inputs().size(), 0);
     snapshot_.outputs.assign(image_.outputs().size(), 0);
     in_flight_.reserve(256);
+    constexpr auto kAcyclicWait = std::chrono::milliseconds(10);
+    acyclic_patience_ = std::max<std::uint64_t>(2, static_cast<std::uint64_t>(kAcyclicWait / options.cycle_time));
     sent_this_cycle_.reserve(256);
     mismatches_.reserve(64);
     link_up_[0].store(main.link_up());
@@ -193,9 +195,9 @@ void Master::complete_previous_cycle(link::Clock::time_point now) {
     for (const InFlight& f : in_flight_) {
         const ReturnedCopy main_copy = tracker_.copy(f.id, LinkRole::Main);
         const ReturnedCopy red_copy = f.sent_red ? tracker_.copy(f.id, LinkRole::Red) : ReturnedCopy{};
-        tracker_.close(f.id);
         if (f.kind == FrameKind::Cyclic) any_cyclic = true;
         if (f.kind == FrameKind::MasterRed) {
+            tracker_.close(f.id);
             if (extension_) extension_->complete(f.index, main_copy, red_copy);
             continue;
         }
@@ -208,6 +210,14 @@ void Master::complete_previous_cycle(link::Clock::time_point now) {
             if (parsed) view = *parsed;
         }
         const bool complete = view.has_value() && is_complete(f, main_copy, red_copy, *merged, *view);
+        if (!complete && f.kind == FrameKind::Acyclic && cycle_ - f.cycle < acyclic_patience_) {
+            // An acyclic frame may come back a little late. Sending it again
+            // could repeat what a slave already did (reading a mailbox empties
+            // it), so it is awaited for a while before it counts as lost.
+            sent_this_cycle_.push_back(f);
+            continue;
+        }
+        tracker_.close(f.id);
         if (merged) {
             any_returned = true;
             ring_closed = ring_closed || merged->ring_closed;
@@ -370,7 +380,7 @@ void Master::send_copies(FrameKind kind, std::uint16_t index, Bytes frame, std::
         if (!red_->send(frame)) stats_.send_errors.fetch_add(1, std::memory_order_relaxed);
         sent_red = true;
     }
-    sent_this_cycle_.push_back(InFlight{id, kind, index, sent_main, sent_red});
+    sent_this_cycle_.push_back(InFlight{id, kind, index, sent_main, sent_red, cycle_});
     stats_.frames_sent.fetch_add(1, std::memory_order_relaxed);
 }
 

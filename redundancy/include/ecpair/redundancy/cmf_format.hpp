@@ -43,7 +43,6 @@ enum class CmfKind : std::uint8_t {
 };
 inline constexpr std::array<CmfKind, 5> kCmfKinds{CmfKind::Header, CmfKind::SlaveStateImage, CmfKind::ShadowInputs,
                                                   CmfKind::MasterPdOut, CmfKind::MasterPdIn};
-std::string_view to_string(CmfKind kind);  // "HEADER", "SLAVE_STATE_IMAGE", ...
 
 // ---- errors
 

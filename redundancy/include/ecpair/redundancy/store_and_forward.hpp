@@ -52,7 +52,6 @@ enum class ForwardOutcome : std::uint8_t {
     DroppedDamaged,      // EtherCAT, but not a valid datagram frame (or larger than any frame)
     SendFailed,          // no adapter could send it
 };
-std::string_view to_string(ForwardOutcome outcome);
 
 struct StoreAndForwardCounters {
     std::uint64_t forwarded_main_to_red = 0;  // arrived on MAIN, left by RED

@@ -131,6 +131,7 @@ private:
         std::uint16_t index;
         bool sent_main;
         bool sent_red;
+        std::uint64_t cycle;  // when it was sent
     };
 
     Master(std::shared_ptr<const eni::EniConfig> eni, const MasterOptions& options, link::Link& main,
@@ -166,7 +167,8 @@ private:
 
     // Cycle-thread state.
     std::uint64_t cycle_ = 0;
-    std::vector<InFlight> in_flight_;       // frames sent in the previous cycle
+    std::vector<InFlight> in_flight_;       // frames sent in the previous cycle (and acyclic ones still awaited)
+    std::uint64_t acyclic_patience_ = 2;   // cycles an acyclic frame may take to come back
     std::vector<InFlight> sent_this_cycle_;
     std::vector<WkcMismatch> mismatches_;
     std::array<std::uint8_t, wire::kMaxFrameSizeVlan> tx_{};
