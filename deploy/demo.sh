@@ -1,14 +1,17 @@
 #!/usr/bin/env bash
-# README's main command: ecpair on a simulated EtherCAT segment, all on this
-# machine. Installs and builds what it needs, then shows:
-#   1. ecsim: a simulated slave chain built from a real ENI, in a namespace
+# README's main command: a redundant ecpair pair on a simulated EtherCAT
+# segment, all on this machine (network namespaces, veth cables). Installs
+# and builds what it needs, then shows:
+#   1. ecsim: the slave chain of a real ENI (TwinCAT, 5 slaves)
 #   2. ecpairctl scan: the bus as an operator sees it, compared with the ENI
-#   3. ecpaird: one master with cable redundancy drives the slaves to OP,
-#      the demo application's outputs come back as inputs
-#   4. a cable breaks between two slaves: the ring survives, no cycle lost
-#   5. the cable is repaired
-# Run as root. ECPAIR_DEMO_ENI picks another ENI; ECPAIR_DEMO_NO_BUILD=1 skips the
-# build and ECPAIR_BUILD_DIR points at another build tree.
+#   3. the pair: m1 ACTIVE drives the slaves to OP, m2 INACTIVE forwards every
+#      frame and mirrors m1's image; `ecpairctl compare` checks both images agree
+#   4. a cable breaks between two slaves: the ring survives, m2 keeps mirroring
+#   5. a planned switchover by API: m2 takes over hot, the slaves stay in OP
+#   6. a failover: m2's controller dies (killed, its cables dark) and m1
+#      takes over from its mirror
+# Run as root. ECPAIR_DEMO_ENI picks another ENI; ECPAIR_DEMO_NO_BUILD=1 skips
+# the build and ECPAIR_BUILD_DIR points at another build tree.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 repo=$(pwd)
@@ -23,8 +26,8 @@ step() { printf '\n\033[1m== %s\033[0m\n' "$*"; }
 note() { printf '   %s\n' "$*"; }
 
 cleanup() {
-  [ -n "${events_pid:-}" ] && kill "$events_pid" 2>/dev/null || true
-  for pid in ${daemon_pid:-} ${ecsim_pid:-}; do kill "$pid" 2>/dev/null && wait "$pid" 2>/dev/null || true; done
+  for pid in ${events_m1:-} ${events_m2:-}; do kill "$pid" 2>/dev/null || true; done
+  for pid in ${m1:-} ${m2:-} ${sim:-}; do kill "$pid" 2>/dev/null && wait "$pid" 2>/dev/null || true; done
   topology_down "$prefix"
   rm -rf "$work"
 }
@@ -43,60 +46,91 @@ fi
 ecsim=$bin/sim/segment/ecsim
 ecpaird=$bin/supervisor/ecpaird/ecpaird
 ecpairctl=$bin/supervisor/ecpairctl/ecpairctl
-ctl() { "$ecpairctl" "$1" --socket "$work/m1.sock" "${@:2}"; }
+ctl() { "$ecpairctl" "$1" --socket "$work/$2.sock" "${@:3}"; }
 sim() { "$ecsim" ctl --control "$work/ecsim.sock" "$@"; }
+status() { ctl status "$1" | sed -n "1,${2:-7}p" | sed 's/^/   /'; }
+in_state() { ctl status "$1" | grep -q "$2"; }
 
-step "1. ecsim: the slaves of $(basename "$eni") on veth cables in namespace $prefix-sim"
-topology_up "$prefix" single
+step "1. ecsim: the slaves of $(basename "$eni") in namespace $prefix-sim"
+topology_up "$prefix" pair
 ip netns exec "$prefix-sim" "$ecsim" --eni "$eni" --main-if sim-main --red-if sim-red \
   --control "$work/ecsim.sock" --pcap "$work/segment.pcap" --realtime-priority 70 >"$work/ecsim.log" 2>&1 &
-ecsim_pid=$!
+sim=$!
 wait_for 10 test -S "$work/ecsim.sock"
-sim status | tr ' ' '\n' | grep -E '^(slaves|main|red)=' | paste -sd' ' | sed 's/^/   /'
+note "cables: m1-main -> slave 1 ... slave 5 -> m2-red, and m1-red <-> m2-main (master-master)"
 
-step "2. ecpairctl scan from controller 1's MAIN adapter (namespace $prefix-m1)"
-ip netns exec "$prefix-m1" "$ecpairctl" scan --if m1-main --red-if m1-red --eni "$eni"
+step "2. ecpairctl scan from controller m1 (namespace $prefix-m1), before any master runs"
+note "(m2's cable to the last slave is unplugged for the scan, so the last slave closes its port and frames come back)"
+ip -n "$prefix-m2" link set m2-red down
+wait_for 10 bash -c "'$ecsim' ctl --control '$work/ecsim.sock' status | grep -q 'red=down'"
+ip netns exec "$prefix-m1" "$ecpairctl" scan --if m1-main --eni "$eni" | sed 's/^/   /'
+ip -n "$prefix-m2" link set m2-red up
+wait_for_carrier "$prefix-sim" sim-red
 
-step "3. ecpaird: one master, cable redundancy on (MAIN and RED), LRW split into LWR + LRD"
-cat >"$work/m1.textproto" <<CONF
-name: "m1"
-interfaces { main: "m1-main" red: "m1-red" }
+step "3. The pair: m1 starts ACTIVE, m2 INACTIVE (same ENI, cable redundancy, LRW split)"
+member() {  # name initial-state
+  cat >"$work/$1.textproto" <<CONF
+name: "$1"
+interfaces { main: "$1-main" red: "$1-red" }
 eni_path: "$eni"
 cycle_time_us: 1000
 cable_redundancy: true
 split_lrw: true
 demo { kind: LOOPBACK_CHECK step_cycles: 50 }
-control { path: "$work/m1.sock" }
+control { path: "$work/$1.sock" }
+redundancy { enabled: true initial_state: $2 master_pd_out_size: 8 master_pd_in_size: 8 }
 CONF
-ip netns exec "$prefix-m1" "$ecpaird" --config "$work/m1.textproto" >"$work/m1.log" 2>&1 &
-daemon_pid=$!
+  ip netns exec "$prefix-$1" "$ecpaird" --config "$work/$1.textproto" >"$work/$1.log" 2>&1 &
+}
+member m1 ACTIVE; m1=$!
+member m2 INACTIVE; m2=$!
 wait_for 10 test -S "$work/m1.sock"
-ctl events >"$work/events.log" 2>&1 &
-events_pid=$!
-wait_for 30 bash -c "'$ecpairctl' status --socket '$work/m1.sock' | grep -q 'master OP'" || true
-sleep 1
-ctl status --variables 3
-note "(inputs: ecsim's slaves put a frame counter first, then echo the outputs)"
-sleep 1
-note "one second later:"
-ctl status --variables 3 | sed -n '/inputs:/,$p'
-
-counters() { ctl status | grep -E 'frames sent|loopback'; }
-step "4. A cable breaks between slave 2 and slave 3 while in OP"
-before=$(ctl status | grep -oE 'lost [0-9]+' | grep -oE '[0-9]+')
-sim break 2
+wait_for 10 test -S "$work/m2.sock"
+ctl events m1 >"$work/events-m1.log" 2>&1 & events_m1=$!
+ctl events m2 >"$work/events-m2.log" 2>&1 & events_m2=$!
+wait_for 30 in_state m1 "master OP" || true
+wait_for 10 in_state m2 "partner seen, mirrored" || true
 sleep 2
-ctl status | sed -n '1,5p'
-after=$(ctl status | grep -oE 'lost [0-9]+' | grep -oE '[0-9]+')
-note "frames lost while broken: $((after - before)) (the merged MAIN and RED copies carry every slave's data)"
+status m1 8
+status m2 13
+note "(master PD: m1 sends its cycle counter, m2 echoes it back)"
+ctl compare m1 --socket "$work/m2.sock" | sed 's/^/   /'
 
-step "5. The cable is repaired"
-sim repair 2
+step "4. A cable breaks between slave 2 and slave 3 while in OP"
+sim break 2 | sed 's/^/   /'
+sleep 2
+status m1 4
+status m2 5 | tail -2
+ctl compare m1 --socket "$work/m2.sock" | sed 's/^/   /'
+sim repair 2 | sed 's/^/   /'
 sleep 1
-ctl status | sed -n '1,6p'
 
-step "Events seen by ecpairctl events"
-sed 's/^/   /' "$work/events.log"
+step "5. Planned switchover by API: m1 steps down, m2 takes over"
+ctl red-state m1 INACTIVE | sed 's/^/   /'
+ctl red-state m2 ACTIVE | sed 's/^/   /'
+wait_for 10 in_state m1 "partner seen, mirrored" || true
+sleep 2
+status m2 8
+status m1 6 | tail -2
+ctl compare m2 --socket "$work/m1.sock" | sed 's/^/   /'
+note "ecsim's slaves never left OP: $(grep -c 'AL OP -> ' "$work/ecsim.log" || true) AL transitions out of OP logged"
 
-step "Capture of the segment: $(tshark -r "$work/segment.pcap" -Y 'eth.type == 0x88a4' 2>/dev/null | wc -l) EtherCAT frames, $(tshark -r "$work/segment.pcap" -Y '(eth.type == 0x88a4 || ecatf) && _ws.malformed' 2>/dev/null | wc -l) malformed (tshark)"
-note "logs: ecsim and ecpaird wrote to $work (removed at exit)"
+step "6. Failover: m2's controller dies (killed, its adapters dark); m1 takes over from its mirror"
+kill -9 "$m2"; wait "$m2" 2>/dev/null || true; m2=
+ip -n "$prefix-m2" link set m2-main down
+ip -n "$prefix-m2" link set m2-red down
+note "(detecting a dead partner by itself is the supervisor's job, next on the roadmap: here the operator asks)"
+ctl red-state m1 ACTIVE | sed 's/^/   /'
+sleep 2
+status m1 8
+note "slaves: $(ctl status m1 | grep -cE '^ +[0-9]+ +[0-9]+ +yes +OP') of 5 in OP; AL transitions out of OP in ecsim: $(grep -c 'AL OP -> ' "$work/ecsim.log" || true)"
+
+step "Events"
+note "m1:"; sed 's/^/     /' "$work/events-m1.log" | grep -vE 'slave-presence' | tail -15
+note "m2:"; sed 's/^/     /' "$work/events-m2.log" | grep -vE 'slave-presence' | tail -10
+
+kill "$sim"; wait "$sim" 2>/dev/null || true; sim=
+step "The segment's capture: $(tshark -r "$work/segment.pcap" -Y 'eth.type == 0x88a4' 2>/dev/null | wc -l) EtherCAT frames, $(tshark -r "$work/segment.pcap" -Y '(eth.type == 0x88a4 || ecatf) && _ws.malformed' 2>/dev/null | wc -l) malformed (tshark)"
+if [ -x "$bin/bench/ecpair-capture-analysis" ]; then
+  "$bin/bench/ecpair-capture-analysis" gaps "$work/segment.pcap" | sed 's/^/   /'
+fi

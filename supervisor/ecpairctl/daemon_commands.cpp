@@ -1,6 +1,8 @@
 #include "daemon_commands.hpp"
 
+#include <array>
 #include <functional>
+#include <map>
 #include <ostream>
 
 #include <boost/program_options.hpp>
@@ -199,6 +201,46 @@ int run_state_request(const std::vector<std::string>& args, std::ostream& out, s
 }
 
 }  // namespace
+
+int run_compare_command(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
+    std::vector<std::string> sockets;
+    po::options_description options("ecpairctl compare options");
+    options.add_options()("help,h", "this text")("socket,s", po::value(&sockets)->composing(),
+                                                 "operator socket of a pair member (give two)");
+    po::variables_map vm;
+    if (auto rc = parse(args, options, nullptr, vm, "ecpairctl compare --socket A --socket B", out, err)) return *rc;
+    if (sockets.size() != 2) {
+        fmt::print(err, "ecpairctl compare: give exactly two --socket\n");
+        return kUsage;
+    }
+    std::array<std::map<std::uint64_t, std::pair<std::uint32_t, std::uint32_t>>, 2> histories;
+    for (std::size_t i = 0; i < 2; ++i) {
+        control::Request request;
+        request.mutable_image_history();
+        auto response = control::call(sockets[i], request);
+        if (!response) {
+            fmt::print(err, "ecpairctl: {}\n", response.error().message);
+            return kUnreachable;
+        }
+        // Only SAFEOP and OP carry outputs on the wire: before, nothing can be mirrored.
+        for (const auto& e : response->image_history().entries()) {
+            if (e.master_state() == "SAFEOP" || e.master_state() == "OP") {
+                histories[i][e.cycle()] = {e.inputs_crc(), e.outputs_crc()};
+            }
+        }
+    }
+    std::size_t common = 0;
+    std::size_t differ = 0;
+    for (const auto& [cycle, crcs] : histories[0]) {
+        const auto it = histories[1].find(cycle);
+        if (it == histories[1].end()) continue;
+        ++common;
+        if (it->second != crcs) ++differ;
+    }
+    fmt::print(out, "{} cycles recorded by both: {} with equal inputs and outputs, {} differ\n", common, common - differ,
+               differ);
+    return common > 0 && differ == 0 ? kOk : kRefused;
+}
 
 int run_state_command(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
     return run_state_request(args, out, err, "ecpairctl state [--socket PATH] STATE", "INIT, PREOP, SAFEOP or OP",

@@ -4,6 +4,9 @@
 //   events [--for SECONDS]   the event stream (watch)
 //   state STATE              ask for INIT, PREOP, SAFEOP or OP
 //   red-state STATE          make this controller ACTIVE or INACTIVE (redundant pair)
+//   compare --socket A --socket B
+//                            compare two pair members' image histories cycle by
+//                            cycle (exit 1 when any SAFEOP/OP cycle differs)
 // Every command takes --socket PATH (default /run/ecpair/<--name>.sock,
 // --name defaulting to "ecpaird").
 //
@@ -19,6 +22,7 @@ namespace ecpair::ctl {
 int run_status_command(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 int run_events_command(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 int run_state_command(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
+int run_compare_command(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 int run_red_state_command(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 
 }  // namespace ecpair::ctl

@@ -24,6 +24,7 @@ void print_usage(std::ostream& out) {
            "  events [--for SECONDS]    watch a running ecpaird's events\n"
            "  state STATE               ask ecpaird for INIT, PREOP, SAFEOP or OP\n"
            "  red-state ACTIVE|INACTIVE make a controller of a pair ACTIVE or INACTIVE\n"
+           "  compare --socket A --socket B  check that a pair's images agree, cycle by cycle\n"
            "  (daemon commands take --socket PATH or --name NAME; default /run/ecpair/ecpaird.sock)\n"
            "  help                      this text\n";
 }
@@ -45,6 +46,7 @@ int main(int argc, char** argv) {
     if (command == "events" || command == "watch") return ecpair::ctl::run_events_command(args, std::cout, std::cerr);
     if (command == "state") return ecpair::ctl::run_state_command(args, std::cout, std::cerr);
     if (command == "red-state") return ecpair::ctl::run_red_state_command(args, std::cout, std::cerr);
+    if (command == "compare") return ecpair::ctl::run_compare_command(args, std::cout, std::cerr);
     if (command == "help" || command == "--help" || command == "-h") {
         print_usage(std::cout);
         return 0;

@@ -4,6 +4,9 @@
 
 #include "interface_query.hpp"
 
+#include <linux/ethtool.h>
+#include <linux/sockios.h>
+
 #include <net/if.h>
 #include <net/if_arp.h>
 #include <sys/ioctl.h>
@@ -46,7 +49,16 @@ bool InterfaceQuery::running() const {
     ifreq request = request_for(ifname_);
     if (::ioctl(socket_.get(), SIOCGIFFLAGS, &request) != 0) return false;
     const auto flags = static_cast<unsigned>(request.ifr_flags);
-    return (flags & IFF_UP) != 0 && (flags & IFF_RUNNING) != 0;
+    if ((flags & IFF_UP) == 0) return false;
+    // IFF_RUNNING follows the operational state, which the kernel updates up
+    // to a second after the carrier changes (linkwatch). The driver's link
+    // status (ethtool GLINK) is the carrier itself, at once.
+    ethtool_value link{};
+    link.cmd = ETHTOOL_GLINK;
+    ifreq glink = request_for(ifname_);
+    glink.ifr_data = reinterpret_cast<char*>(&link);
+    if (::ioctl(socket_.get(), SIOCETHTOOL, &glink) == 0) return link.data != 0;
+    return (flags & IFF_RUNNING) != 0;
 }
 
 }  // namespace ecpair::link::detail

@@ -363,6 +363,13 @@ bool Master::prepare_red_copy(FrameKind kind, Bytes frame) const {
     return true;
 }
 
+// The kernel reports carrier changes late (up to a second); a send that
+// fails on a link without carrier is news of a pulled cable right now.
+void Master::send_failed(LinkRole role) {
+    stats_.send_errors.fetch_add(1, std::memory_order_relaxed);
+    if (!link(role).link_up()) set_link_state(role, false);
+}
+
 void Master::send_copies(FrameKind kind, std::uint16_t index, Bytes frame, std::uint8_t retry_index) {
     const std::uint8_t id = tracker_.open(kind, index, cycle_);
     auto set_source = [&](LinkRole role) {
@@ -372,12 +379,12 @@ void Master::send_copies(FrameKind kind, std::uint16_t index, Bytes frame, std::
     const bool sent_main = link_up_[0].load();
     if (sent_main) {
         set_source(LinkRole::Main);
-        if (!main_.send(frame)) stats_.send_errors.fetch_add(1, std::memory_order_relaxed);
+        if (!main_.send(frame)) send_failed(LinkRole::Main);
     }
     bool sent_red = false;
     if (use_red() && link_up_[1].load() && prepare_red_copy(kind, frame)) {
         set_source(LinkRole::Red);
-        if (!red_->send(frame)) stats_.send_errors.fetch_add(1, std::memory_order_relaxed);
+        if (!red_->send(frame)) send_failed(LinkRole::Red);
         sent_red = true;
     }
     sent_this_cycle_.push_back(InFlight{id, kind, index, sent_main, sent_red, cycle_});

@@ -103,6 +103,12 @@ bool SegmentRunner::serve_side(sim::Side side) {
         if (auto sent = out->send(outgoing); !sent) {
             ++send_failures_;
             runner_log().warn("{}: {} ({} send failures so far)", out->name(), sent.error().message, send_failures_);
+            // The kernel tells carrier changes late; a failed send is the PHY's
+            // news that the cable is gone: close the port now, not a second later.
+            if (!out->link_up()) {
+                runner_log().info("{}: carrier lost (seen on send)", out->name());
+                setup_.segment.set_side_link(*exit, false);
+            }
             continue;
         }
         if (setup_.pcap) setup_.pcap->record(outgoing, std::chrono::system_clock::now());

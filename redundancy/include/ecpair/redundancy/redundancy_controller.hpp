@@ -49,8 +49,11 @@ std::string_view to_string(RedState state);
 struct RedundancyOptions {
     bool start_active = false;
     PairParameters parameters;  // what this master and its partner must agree on
-    // A mirror older than this is no basis for a hot takeover (then: cold start).
-    std::chrono::milliseconds mirror_fresh{200};
+    // A mirror older than this is no basis for a hot takeover (then: cold
+    // start from INIT). Generous: a hot takeover from an older mirror is
+    // verified by the background scan and the slave monitor, while a cold
+    // start would take every slave through INIT.
+    std::chrono::milliseconds mirror_fresh{5000};
     // The ACTIVE calls its partner lost after this long without an answer in the CMF.
     std::chrono::milliseconds partner_silence{100};
 };

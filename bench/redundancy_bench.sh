@@ -1,0 +1,104 @@
+#!/usr/bin/env bash
+# Redundancy figures on veth, in network namespaces:
+#   1. the store-and-forward delay the INACTIVE adds (p50/p99/max, from the
+#      timestamps of the same frame arriving at one of its adapters and
+#      leaving by the other), and the same for a plain kernel bridge between
+#      the same two veths, measured right after in the same run;
+#   2. the takeover gap by API: `ecpairctl red-state INACTIVE` on the ACTIVE
+#      then `red-state ACTIVE` on its partner, COUNT times back and forth; the
+#      gap is the time on the bus between the old ACTIVE's last process-data
+#      frame and the new one's first, from ecsim's capture of the segment.
+#
+#   bash bench/redundancy_bench.sh [SECONDS] [COUNT]   (defaults: 10 10)
+# Needs root and a build in ./build (or ECPAIR_BUILD_DIR).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+source deploy/lib/topology.sh
+seconds=${1:-10}
+count=${2:-10}
+bin=${ECPAIR_BUILD_DIR:-$(pwd)/build}
+eni=$(pwd)/tests/data/eni/twincat_kpierczy_5slaves.xml
+prefix=ecpr$$
+work=$(mktemp -d /tmp/ecpair-redbench.XXXXXX)
+ctl=$bin/supervisor/ecpairctl/ecpairctl
+analysis=$bin/bench/ecpair-capture-analysis
+
+cleanup() {
+  for pid in ${m1:-} ${m2:-} ${sim:-}; do kill "$pid" 2>/dev/null && wait "$pid" 2>/dev/null || true; done
+  topology_down "$prefix"
+  rm -rf "$work"
+}
+trap cleanup EXIT
+
+member() {  # name initial-state
+  cat >"$work/$1.textproto" <<CONF
+name: "$1"
+interfaces { main: "$1-main" red: "$1-red" }
+eni_path: "$eni"
+cycle_time_us: 1000
+cable_redundancy: true
+split_lrw: true
+demo { kind: WALKING_BIT }
+control { path: "$work/$1.sock" }
+log_level: "warn"
+redundancy { enabled: true initial_state: $2 master_pd_out_size: 8 master_pd_in_size: 8 }
+CONF
+  ip netns exec "$prefix-$1" "$bin/supervisor/ecpaird/ecpaird" --config "$work/$1.textproto" >"$work/$1.log" 2>&1 &
+}
+wait_for() {  # socket pattern
+  for _ in $(seq 300); do "$ctl" status --socket "$1" 2>/dev/null | grep -q "$2" && return 0; sleep 0.1; done
+  echo "timed out waiting for '$2' on $1" >&2; return 1
+}
+capture() {  # ns interface file
+  ip netns exec "$1" tshark -q -i "$2" -f 'ether proto 0x88a4' -a "duration:$seconds" -w "$3" >/dev/null 2>&1 &
+}
+
+topology_up "$prefix" pair
+ip netns exec "$prefix-sim" "$bin/sim/segment/ecsim" --eni "$eni" --main-if sim-main --red-if sim-red \
+  --control "$work/ecsim.sock" --pcap "$work/segment.pcap" --realtime-priority 70 --log-level warn >"$work/ecsim.log" 2>&1 &
+sim=$!
+for _ in $(seq 100); do [ -S "$work/ecsim.sock" ] && break; sleep 0.1; done
+member m1 ACTIVE; m1=$!
+member m2 INACTIVE; m2=$!
+wait_for "$work/m1.sock" "master OP"
+wait_for "$work/m2.sock" "partner seen, mirrored"
+
+echo "== store-and-forward delay of the INACTIVE (m2), ${seconds} s at 1 ms"
+capture "$prefix-m2" m2-red "$work/inactive-red.pcap"; a=$!
+capture "$prefix-m2" m2-main "$work/inactive-main.pcap"; b=$!
+wait $a $b
+echo "   slaves -> m2 RED -> m2 MAIN -> m1 RED:"
+"$analysis" delay "$work/inactive-red.pcap" "$work/inactive-main.pcap" | sed 's/^/     /'
+echo "   m1 RED -> m2 MAIN -> m2 RED -> slaves:"
+"$analysis" delay "$work/inactive-main.pcap" "$work/inactive-red.pcap" | sed 's/^/     /'
+
+echo "== the same veths joined by a kernel bridge instead of m2"
+kill "$m2"; wait "$m2" 2>/dev/null || true; m2=
+ip -n "$prefix-m2" link add name br0 type bridge
+ip -n "$prefix-m2" link set m2-main master br0
+ip -n "$prefix-m2" link set m2-red master br0
+ip -n "$prefix-m2" link set br0 up
+sleep 1
+capture "$prefix-m2" m2-red "$work/bridge-red.pcap"; a=$!
+capture "$prefix-m2" m2-main "$work/bridge-main.pcap"; b=$!
+wait $a $b
+echo "   m2-red -> m2-main:"
+"$analysis" delay "$work/bridge-red.pcap" "$work/bridge-main.pcap" | sed 's/^/     /'
+echo "   m2-main -> m2-red:"
+"$analysis" delay "$work/bridge-main.pcap" "$work/bridge-red.pcap" | sed 's/^/     /'
+ip -n "$prefix-m2" link del br0
+
+echo "== takeover gap by API, $count switchovers (red-state INACTIVE on the ACTIVE, then ACTIVE on its partner)"
+member m2 INACTIVE; m2=$!
+wait_for "$work/m2.sock" "partner seen, mirrored"
+active=m1; standby=m2
+for _ in $(seq "$count"); do
+  "$ctl" red-state --socket "$work/$active.sock" INACTIVE >/dev/null
+  "$ctl" red-state --socket "$work/$standby.sock" ACTIVE >/dev/null
+  wait_for "$work/$active.sock" "partner seen, mirrored"
+  tmp=$active; active=$standby; standby=$tmp
+  sleep 0.5
+done
+"$ctl" status --socket "$work/$active.sock" | sed -n '1,5p' | sed 's/^/   /'
+kill "$sim"; wait "$sim" 2>/dev/null || true; sim=
+"$analysis" gaps "$work/segment.pcap" | sed 's/^/   /'
