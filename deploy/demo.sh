@@ -66,6 +66,7 @@ wait_for 10 bash -c "'$ecsim' ctl --control '$work/ecsim.sock' status | grep -q 
 ip netns exec "$prefix-m1" "$ecpairctl" scan --if m1-main --eni "$eni" | sed 's/^/   /'
 ip -n "$prefix-m2" link set m2-red up
 wait_for_carrier "$prefix-sim" sim-red
+wait_for_carrier "$prefix-m2" m2-red
 
 step "3. The pair: m1 starts ACTIVE, m2 INACTIVE (same ENI, cable redundancy, LRW split)"
 member() {  # name initial-state

@@ -25,7 +25,10 @@ control::StatusReply OperatorService::status(const control::StatusRequest& reque
     control::StatusReply reply;
     reply.set_name(settings_.name);
     reply.set_master_state(std::string(eni::to_string(master_.state())));
-    reply.set_target_state(std::string(sequencer::to_string(state_machine_.target())));
+    // An INACTIVE master has no target of its own: it follows the partner's state.
+    const bool follows_partner = redundancy_ && redundancy_->state() == redundancy::RedState::Inactive;
+    reply.set_target_state(follows_partner ? std::string("partner's")
+                                           : std::string(sequencer::to_string(state_machine_.target())));
     if (const auto error = state_machine_.last_error()) reply.set_sequence_error(error->message);
     reply.set_ring_state(std::string(master::to_string(master_.ring_state())));
     reply.set_reachable_from_main(master_.reachable_from_main().value_or(0));

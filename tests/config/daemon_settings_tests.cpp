@@ -130,3 +130,15 @@ redundancy { enabled: true initial_state: ACTIVE master_pd_out_size: 16 master_p
     CHECK(error_of("interfaces { main: \"a\" red: \"b\" }\neni_path: \"x\"\nredundancy { master_pd_in_size: 5000 }\n") ==
           "test.textproto:3:14: redundancy.master_pd_in_size: must be 0..4096 bytes (got 5000)");
 }
+
+TEST_CASE("the example configurations of a pair are valid", "[config]") {
+    for (const char* name : {"m1", "m2"}) {
+        auto s = ecpair::config::load_daemon_settings(std::string(ECPAIR_TEST_DATA_DIR) + "/../../deploy/config/" + name +
+                                                      ".textproto");
+        INFO(name);
+        REQUIRE(s);
+        CHECK(s->redundancy.enabled);
+        CHECK(s->redundancy.start_active == (std::string(name) == "m1"));
+        CHECK(s->cable_redundancy);
+    }
+}
