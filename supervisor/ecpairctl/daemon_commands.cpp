@@ -54,6 +54,22 @@ std::optional<int> parse(const std::vector<std::string>& args, po::options_descr
     return std::nullopt;
 }
 
+// Sends one request; the response when the daemon accepted it, else the
+// exit code (the error is printed).
+Expected<control::Response, int> call_daemon(const std::string& path, const control::Request& request,
+                                             std::ostream& err) {
+    auto response = control::call(path, request);
+    if (!response) {
+        fmt::print(err, "ecpairctl: {}\n", response.error().message);
+        return unexpected(kUnreachable);
+    }
+    if (!response->ok()) {
+        fmt::print(err, "ecpairctl: {}\n", response->error());
+        return unexpected(kRefused);
+    }
+    return std::move(*response);
+}
+
 std::string yes_no(bool b) { return b ? "up" : "DOWN"; }
 
 void print_status(std::ostream& out, const control::StatusReply& s) {
@@ -123,15 +139,8 @@ int run_status_command(const std::vector<std::string>& args, std::ostream& out, 
 
     control::Request request;
     request.mutable_status()->set_max_variables(variables);
-    auto response = control::call(common.path(), request);
-    if (!response) {
-        fmt::print(err, "ecpairctl: {}\n", response.error().message);
-        return kUnreachable;
-    }
-    if (!response->ok()) {
-        fmt::print(err, "ecpairctl: {}\n", response->error());
-        return kRefused;
-    }
+    auto response = call_daemon(common.path(), request, err);
+    if (!response) return response.error();
     print_status(out, response->status());
     return kOk;
 }
@@ -187,15 +196,7 @@ int run_state_request(const std::vector<std::string>& args, std::ostream& out, s
 
     control::Request request;
     fill(request, state);
-    auto response = control::call(common.path(), request);
-    if (!response) {
-        fmt::print(err, "ecpairctl: {}\n", response.error().message);
-        return kUnreachable;
-    }
-    if (!response->ok()) {
-        fmt::print(err, "ecpairctl: {}\n", response->error());
-        return kRefused;
-    }
+    if (auto response = call_daemon(common.path(), request, err); !response) return response.error();
     fmt::print(out, "{} requested\n", state);
     return kOk;
 }
@@ -217,11 +218,8 @@ int run_compare_command(const std::vector<std::string>& args, std::ostream& out,
     for (std::size_t i = 0; i < 2; ++i) {
         control::Request request;
         request.mutable_image_history();
-        auto response = control::call(sockets[i], request);
-        if (!response) {
-            fmt::print(err, "ecpairctl: {}\n", response.error().message);
-            return kUnreachable;
-        }
+        auto response = call_daemon(sockets[i], request, err);
+        if (!response) return response.error();
         // Only SAFEOP and OP carry outputs on the wire: before, nothing can be mirrored.
         for (const auto& e : response->image_history().entries()) {
             if (e.master_state() == "SAFEOP" || e.master_state() == "OP") {

@@ -55,6 +55,25 @@ void FmmuUnit::refresh(const EscMemory& memory) {
     }
 }
 
+namespace {
+
+// Where a byte-aligned mapping puts the part of the datagram [begin, end) it covers.
+struct AlignedPiece {
+    std::uint64_t physical;  // first physical byte
+    std::size_t offset;      // in the datagram's data
+    std::size_t length;
+};
+
+template <class Mapping>
+AlignedPiece aligned_piece(const Mapping& m, std::uint64_t begin, std::uint64_t end) {
+    const std::uint64_t overlap_begin = std::max<std::uint64_t>(begin, m.logical_byte_begin);
+    const std::uint64_t overlap_end = std::min(end, m.logical_byte_end);
+    return {m.physical_bit_begin / 8 + (overlap_begin - m.logical_byte_begin),
+            static_cast<std::size_t>(overlap_begin - begin), static_cast<std::size_t>(overlap_end - overlap_begin)};
+}
+
+}  // namespace
+
 bool FmmuUnit::read(std::uint32_t logical_address, Bytes data, PhysicalAccess& memory) const {
     const std::uint64_t begin = logical_address;
     const std::uint64_t end = begin + data.size();
@@ -63,12 +82,11 @@ bool FmmuUnit::read(std::uint32_t logical_address, Bytes data, PhysicalAccess& m
         const Mapping& m = mappings_[i];
         if (!m.reads || !ranges_overlap(m.logical_byte_begin, m.logical_byte_end, begin, end)) continue;
         if (m.byte_aligned && !m.shadowed_read) {
-            const std::uint64_t overlap_begin = std::max<std::uint64_t>(begin, m.logical_byte_begin);
-            const std::uint64_t overlap_end = std::min(end, m.logical_byte_end);
-            const std::uint64_t physical = m.physical_bit_begin / 8 + (overlap_begin - m.logical_byte_begin);
-            const auto piece = data.subspan(static_cast<std::size_t>(overlap_begin - begin),
-                                            static_cast<std::size_t>(overlap_end - overlap_begin));
-            any = (physical < regs::kAddressSpace && memory.read(static_cast<std::uint32_t>(physical), piece, ReadMode::Copy)) || any;
+            const auto piece = aligned_piece(m, begin, end);
+            any = (piece.physical < regs::kAddressSpace &&
+                   memory.read(static_cast<std::uint32_t>(piece.physical), data.subspan(piece.offset, piece.length),
+                               ReadMode::Copy)) ||
+                  any;
         } else {
             any = read_bits(i, logical_address, data, memory) || any;
         }
@@ -84,12 +102,10 @@ bool FmmuUnit::write(std::uint32_t logical_address, ConstBytes source, PhysicalA
         const Mapping& m = mappings_[i];
         if (!m.writes || !ranges_overlap(m.logical_byte_begin, m.logical_byte_end, begin, end)) continue;
         if (m.byte_aligned && !m.shadowed_write) {
-            const std::uint64_t overlap_begin = std::max<std::uint64_t>(begin, m.logical_byte_begin);
-            const std::uint64_t overlap_end = std::min(end, m.logical_byte_end);
-            const std::uint64_t physical = m.physical_bit_begin / 8 + (overlap_begin - m.logical_byte_begin);
-            const auto piece = source.subspan(static_cast<std::size_t>(overlap_begin - begin),
-                                              static_cast<std::size_t>(overlap_end - overlap_begin));
-            any = (physical < regs::kAddressSpace && memory.write(static_cast<std::uint32_t>(physical), piece)) || any;
+            const auto piece = aligned_piece(m, begin, end);
+            any = (piece.physical < regs::kAddressSpace &&
+                   memory.write(static_cast<std::uint32_t>(piece.physical), source.subspan(piece.offset, piece.length))) ||
+                  any;
         } else {
             any = write_bits(i, logical_address, source, memory) || any;
         }
