@@ -12,6 +12,7 @@
 #include <sstream>
 #include <thread>
 
+#include "temp_dir.hpp"
 #include "ecpair/link/pcap_link.hpp"
 #include "netns.hpp"
 #include "test_frames.hpp"
@@ -27,16 +28,7 @@ const std::string kEcsim = ECSIM_BINARY;
 // How long the test waits for ecsim before calling it a hang.
 constexpr std::chrono::seconds kHangGuard{10};
 
-struct TempDir {
-    TempDir() : path(std::filesystem::temp_directory_path() / ("ecsim-netns-test-" + std::to_string(::getpid()))) {
-        std::filesystem::create_directories(path);
-    }
-    ~TempDir() {
-        std::error_code ignored;
-        std::filesystem::remove_all(path, ignored);
-    }
-    std::filesystem::path path;
-};
+using ecpair::test::TempDir;
 
 // ecsim running in a namespace with two probe cables, and the probes' links.
 class EcsimBench {
@@ -48,7 +40,7 @@ public:
                                                 std::string(ECPAIR_TEST_ENI_DIR) + "/twincat_kpierczy_5slaves.xml",
                                                 "--main-if", "sim-main", "--red-if", "sim-red", "--control",
                                                 control().string(), "--pcap", pcap().string(), "--log-level", "debug"},
-                       dir_.path / "ecsim.log", &ns_);
+                       dir_.path() / "ecsim.log", &ns_);
         // Ready once the control socket exists (it is created last).
         const auto give_up = std::chrono::steady_clock::now() + kHangGuard;
         while (!std::filesystem::exists(control())) {
@@ -68,8 +60,8 @@ public:
         red_probe_ = std::move(red_probe).value();
     }
 
-    std::filesystem::path control() const { return dir_.path / "ecsim.sock"; }
-    std::filesystem::path pcap() const { return dir_.path / "ecsim.pcap"; }
+    std::filesystem::path control() const { return dir_.path() / "ecsim.sock"; }
+    std::filesystem::path pcap() const { return dir_.path() / "ecsim.pcap"; }
     const TestNamespace& ns() const { return ns_; }
     ChildProcess& ecsim() { return *ecsim_; }
     link::PcapLink& probe(bool main_side) { return main_side ? *main_probe_ : *red_probe_; }
@@ -79,7 +71,7 @@ public:
         std::vector<std::string> argv{kEcsim, "ctl", "--control", control().string()};
         std::istringstream words(request);
         for (std::string word; words >> word;) argv.push_back(word);
-        ChildProcess client(argv, dir_.path / "ctl.log");
+        ChildProcess client(argv, dir_.path() / "ctl.log");
         const auto status = client.wait_for_exit(kHangGuard);
         REQUIRE(status);
         std::string output = client.log();
@@ -114,7 +106,7 @@ public:
     std::size_t frames_sent() const { return frames_sent_; }
 
 private:
-    TempDir dir_;
+    TempDir dir_{"ecsim-netns-test"};
     TestNamespace ns_;
     std::optional<ChildProcess> ecsim_;
     std::unique_ptr<link::PcapLink> main_probe_;

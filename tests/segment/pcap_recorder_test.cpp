@@ -7,22 +7,14 @@
 #include <filesystem>
 #include <vector>
 
+#include "temp_dir.hpp"
 #include "ecpair/sim/pcap_recorder.hpp"
 
 using namespace ecpair;
 
 namespace {
 
-struct TempDir {
-    TempDir() : path(std::filesystem::temp_directory_path() / ("ecsim-pcap-test-" + std::to_string(::getpid()))) {
-        std::filesystem::create_directories(path);
-    }
-    ~TempDir() {
-        std::error_code ignored;
-        std::filesystem::remove_all(path, ignored);
-    }
-    std::filesystem::path path;
-};
+using ecpair::test::TempDir;
 
 std::vector<std::vector<std::uint8_t>> read_pcap(const std::filesystem::path& file, int& link_type) {
     char error[PCAP_ERRBUF_SIZE];
@@ -40,8 +32,8 @@ std::vector<std::vector<std::uint8_t>> read_pcap(const std::filesystem::path& fi
 }  // namespace
 
 TEST_CASE("recorded frames read back in order, after flush and after close", "[pcap]") {
-    TempDir dir;
-    const auto file = dir.path / "frames.pcap";
+    TempDir dir("ecsim-pcap-test");
+    const auto file = dir.path() / "frames.pcap";
     std::vector<std::uint8_t> first(60, 0x11);
     std::vector<std::uint8_t> second(1514, 0x22);
     second[0] = 0x01;
