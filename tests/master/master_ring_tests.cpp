@@ -1,6 +1,7 @@
-// The Master against an in-process simulated ring (MemoryLinks + ecsim's
-// Segment): acyclic exchange through the cycle, cyclic data both ways,
-// cable redundancy through a line break at every position.
+// The Master with its real threads (cycle and receive threads) against an
+// in-process simulated ring (MemoryLinks + ecsim's Segment): an acyclic
+// exchange goes through the cycle. Cable redundancy cycle by cycle is in
+// cable_redundancy_tests.cpp.
 
 #include <catch2/catch.hpp>
 
