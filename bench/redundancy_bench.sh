@@ -14,6 +14,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source deploy/lib/topology.sh
+source deploy/lib/pair_member.sh
 seconds=${1:-10}
 count=${2:-10}
 bin=${ECPAIR_BUILD_DIR:-$(pwd)/build}
@@ -31,18 +32,7 @@ cleanup() {
 trap cleanup EXIT
 
 member() {  # name initial-state
-  cat >"$work/$1.textproto" <<CONF
-name: "$1"
-interfaces { main: "$1-main" red: "$1-red" }
-eni_path: "$eni"
-cycle_time_us: 1000
-cable_redundancy: true
-split_lrw: true
-demo { kind: WALKING_BIT }
-control { path: "$work/$1.sock" }
-log_level: "warn"
-redundancy { enabled: true initial_state: $2 master_pd_out_size: 8 master_pd_in_size: 8 }
-CONF
+  pair_member_config "$1" "$2" "$eni" "$work" "demo { kind: WALKING_BIT }" 'log_level: "warn"' >"$work/$1.textproto"
   ip netns exec "$prefix-$1" "$bin/supervisor/ecpaird/ecpaird" --config "$work/$1.textproto" >"$work/$1.log" 2>&1 &
 }
 wait_for() {  # socket pattern

@@ -16,6 +16,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 repo=$(pwd)
 source deploy/lib/topology.sh
+source deploy/lib/pair_member.sh
 
 eni=${ECPAIR_DEMO_ENI:-$repo/tests/data/eni/twincat_kpierczy_5slaves.xml}
 bin=${ECPAIR_BUILD_DIR:-$repo/build}
@@ -70,17 +71,7 @@ wait_for_carrier "$prefix-m2" m2-red
 
 step "3. The pair: m1 starts ACTIVE, m2 INACTIVE (same ENI, cable redundancy, LRW split)"
 member() {  # name initial-state
-  cat >"$work/$1.textproto" <<CONF
-name: "$1"
-interfaces { main: "$1-main" red: "$1-red" }
-eni_path: "$eni"
-cycle_time_us: 1000
-cable_redundancy: true
-split_lrw: true
-demo { kind: LOOPBACK_CHECK step_cycles: 50 }
-control { path: "$work/$1.sock" }
-redundancy { enabled: true initial_state: $2 master_pd_out_size: 8 master_pd_in_size: 8 }
-CONF
+  pair_member_config "$1" "$2" "$eni" "$work" "demo { kind: LOOPBACK_CHECK step_cycles: 50 }" >"$work/$1.textproto"
   ip netns exec "$prefix-$1" "$ecpaird" --config "$work/$1.textproto" >"$work/$1.log" 2>&1 &
 }
 member m1 ACTIVE; m1=$!

@@ -72,6 +72,22 @@ AlignedPiece aligned_piece(const Mapping& m, std::uint64_t begin, std::uint64_t 
             static_cast<std::size_t>(overlap_begin - begin), static_cast<std::size_t>(overlap_end - overlap_begin)};
 }
 
+// The bits of a bit-granular mapping a datagram at `logical_address` of
+// `size` bytes covers, as [first, last) relative to the mapping's first bit.
+struct BitWindow {
+    std::uint64_t datagram_bit_begin;  // absolute bit number of the datagram's first bit
+    std::uint64_t first;
+    std::uint64_t last;
+};
+
+template <class Mapping>
+BitWindow bit_window(const Mapping& m, std::uint32_t logical_address, std::size_t size) {
+    const std::uint64_t datagram_bit_begin = std::uint64_t{logical_address} * 8;
+    const std::uint64_t datagram_bit_end = datagram_bit_begin + std::uint64_t{size} * 8;
+    return {datagram_bit_begin, std::max(m.logical_bit_begin, datagram_bit_begin) - m.logical_bit_begin,
+            std::min(m.logical_bit_end, datagram_bit_end) - m.logical_bit_begin};
+}
+
 }  // namespace
 
 bool FmmuUnit::read(std::uint32_t logical_address, Bytes data, PhysicalAccess& memory) const {
@@ -141,10 +157,7 @@ bool FmmuUnit::claimed_by_lower(std::size_t index, std::uint64_t logical_byte, b
 
 bool FmmuUnit::read_bits(std::size_t index, std::uint32_t logical_address, Bytes data, PhysicalAccess& memory) const {
     const Mapping& m = mappings_[index];
-    const std::uint64_t datagram_bit_begin = std::uint64_t{logical_address} * 8;
-    const std::uint64_t datagram_bit_end = datagram_bit_begin + std::uint64_t{data.size()} * 8;
-    const std::uint64_t first = std::max(m.logical_bit_begin, datagram_bit_begin) - m.logical_bit_begin;
-    const std::uint64_t last = std::min(m.logical_bit_end, datagram_bit_end) - m.logical_bit_begin;
+    const auto [datagram_bit_begin, first, last] = bit_window(m, logical_address, data.size());
     bool any = false;
     for (std::uint64_t k = first; k < last;) {
         const std::uint64_t physical_bit = m.physical_bit_begin + k;
@@ -176,10 +189,7 @@ bool FmmuUnit::read_bits(std::size_t index, std::uint32_t logical_address, Bytes
 bool FmmuUnit::write_bits(std::size_t index, std::uint32_t logical_address, ConstBytes source,
                           PhysicalAccess& memory) const {
     const Mapping& m = mappings_[index];
-    const std::uint64_t datagram_bit_begin = std::uint64_t{logical_address} * 8;
-    const std::uint64_t datagram_bit_end = datagram_bit_begin + std::uint64_t{source.size()} * 8;
-    const std::uint64_t first = std::max(m.logical_bit_begin, datagram_bit_begin) - m.logical_bit_begin;
-    const std::uint64_t last = std::min(m.logical_bit_end, datagram_bit_end) - m.logical_bit_begin;
+    const auto [datagram_bit_begin, first, last] = bit_window(m, logical_address, source.size());
     bool any = false;
     for (std::uint64_t k = first; k < last;) {
         const std::uint64_t physical_bit = m.physical_bit_begin + k;

@@ -1,0 +1,19 @@
+# The configuration of one member of the pair in the design.md topology
+# (interfaces NAME-main / NAME-red, 1 ms, cable redundancy with LRW split,
+# 8 bytes of master process data each way), for the demo and the benchmarks.
+# Source this file.
+
+pair_member_config() {  # name initial-state eni control-dir demo-line [extra-line]
+  cat <<CONF
+name: "$1"
+interfaces { main: "$1-main" red: "$1-red" }
+eni_path: "$3"
+cycle_time_us: 1000
+cable_redundancy: true
+split_lrw: true
+$5
+control { path: "$4/$1.sock" }
+redundancy { enabled: true initial_state: $2 master_pd_out_size: 8 master_pd_in_size: 8 }
+${6:-}
+CONF
+}
