@@ -212,6 +212,18 @@ int TestNamespace::exec(const std::string& shell_command) const {
     return run_command({"ip", "netns", "exec", name_, "sh", "-c", shell_command});
 }
 
+std::uint64_t TestNamespace::tx_dropped(const std::string& ifname) const {
+    // /sys shows the namespace it was mounted in; `ip netns exec` mounts this one's.
+    const std::string command = "ip netns exec " + name_ + " cat /sys/class/net/" + ifname + "/statistics/tx_dropped";
+    FILE* pipe = ::popen(command.c_str(), "r");
+    if (pipe == nullptr) throw std::runtime_error("cannot run: " + command);
+    unsigned long long value = 0;
+    const int fields = std::fscanf(pipe, "%llu", &value);
+    const int status = ::pclose(pipe);
+    if (fields != 1 || status != 0) throw std::runtime_error("no tx_dropped counter from: " + command);
+    return value;
+}
+
 void TestNamespace::create_veth(const std::string& end_a, const std::string& end_b) const {
     ip({"link", "add", end_a, "type", "veth", "peer", "name", end_b});
     set_link(end_a, true);

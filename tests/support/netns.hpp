@@ -23,6 +23,7 @@
 #include <chrono>
 #include <filesystem>
 #include <optional>
+#include <cstdint>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -54,6 +55,9 @@ public:
     void move_link(const std::string& ifname, const TestNamespace& other) const;
     // `ip link set <ifname> up|down` inside this namespace.
     void set_link(const std::string& ifname, bool up) const;
+    // The kernel's count of frames sent on `ifname` and dropped; on a veth
+    // that is a frame sent while the other end was down (a pulled cable).
+    std::uint64_t tx_dropped(const std::string& ifname) const;
 
 private:
     void ip(std::vector<std::string> arguments) const;  // `ip -n <name> ...`, throws on failure

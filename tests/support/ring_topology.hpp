@@ -34,6 +34,8 @@ public:
 
     void pull(Cable cable) const { set(cable, false); }
     void plug(Cable cable) const { set(cable, true); }
+    // Frames the cables swallowed: sent by either end while the other end was down.
+    std::uint64_t frames_dropped_in_cables() const;
 
 private:
     void set(Cable cable, bool up) const;

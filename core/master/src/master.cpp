@@ -365,9 +365,14 @@ bool Master::prepare_red_copy(FrameKind kind, Bytes frame) const {
 
 // The kernel reports carrier changes late (up to a second); a send that
 // fails on a link without carrier is news of a pulled cable right now.
-void Master::send_failed(LinkRole role) {
-    stats_.send_errors.fetch_add(1, std::memory_order_relaxed);
-    if (!link(role).link_up()) set_link_state(role, false);
+bool Master::send_on(LinkRole role, ConstBytes frame) {
+    if (link(role).send(frame)) return true;
+    // Refused by an adapter already known to be down is expected, not an error.
+    if (link_up_[static_cast<std::size_t>(role)].load()) {
+        stats_.send_errors.fetch_add(1, std::memory_order_relaxed);
+        if (!link(role).link_up()) set_link_state(role, false);
+    }
+    return false;
 }
 
 void Master::send_copies(FrameKind kind, std::uint16_t index, Bytes frame, std::uint8_t retry_index) {
@@ -376,16 +381,24 @@ void Master::send_copies(FrameKind kind, std::uint16_t index, Bytes frame, std::
         const auto mac = tracker_.source_mac(id, role, retry_index);
         std::copy(mac.bytes.begin(), mac.bytes.end(), frame.begin() + 6);
     };
-    const bool sent_main = link_up_[0].load();
-    if (sent_main) {
+    // Cyclic frames are tried on every adapter, whatever its link state is
+    // believed to be: the news of a cable plugged back in may reach the
+    // slaves before it reaches us, and a copy sent on RED alone would then
+    // pass the closed ring unprocessed and the cycle's data would be lost. A
+    // copy that vanishes into a dead cable costs nothing: the expected WKCs
+    // tell whether the other, bounced copy passed every slave. Acyclic frames
+    // have no expected WKC but are retried, so they go only where the link
+    // is believed up. A copy counts as sent when the adapter took it.
+    const bool every_adapter = kind == FrameKind::Cyclic;
+    bool sent_main = false;
+    if (every_adapter || link_up_[0].load()) {
         set_source(LinkRole::Main);
-        if (!main_.send(frame)) send_failed(LinkRole::Main);
+        sent_main = send_on(LinkRole::Main, frame);
     }
     bool sent_red = false;
-    if (use_red() && link_up_[1].load() && prepare_red_copy(kind, frame)) {
+    if (use_red() && (every_adapter || link_up_[1].load()) && prepare_red_copy(kind, frame)) {
         set_source(LinkRole::Red);
-        if (!red_->send(frame)) send_failed(LinkRole::Red);
-        sent_red = true;
+        sent_red = send_on(LinkRole::Red, frame);
     }
     sent_this_cycle_.push_back(InFlight{id, kind, index, sent_main, sent_red, cycle_});
     stats_.frames_sent.fetch_add(1, std::memory_order_relaxed);

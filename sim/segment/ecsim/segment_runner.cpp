@@ -93,6 +93,12 @@ bool SegmentRunner::serve_side(sim::Side side) {
             continue;
         }
         if (setup_.pcap) setup_.pcap->record(std::span(buffer).first(frame.size), frame.capture_time);
+        // A frame that arrives is the PHY's news that the cable is back; the
+        // kernel may announce the carrier only later.
+        if (!setup_.segment.side_link(side) && in.link_up()) {
+            runner_log().info("{}: carrier back (seen on receive)", in.name());
+            setup_.segment.set_side_link(side, true);
+        }
 
         std::size_t size = frame.size;
         const auto exit = setup_.segment.carry(side, buffer, size, nanoseconds(frame.timestamp));

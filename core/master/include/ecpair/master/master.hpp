@@ -146,7 +146,7 @@ private:
     void send_frames(link::Clock::time_point now);
     void send_copies(FrameKind kind, std::uint16_t index, Bytes frame, std::uint8_t retry_index = 0);
     bool prepare_red_copy(FrameKind kind, Bytes frame) const;
-    void send_failed(LinkRole role);
+    bool send_on(LinkRole role, ConstBytes frame);
     void raise(EventKind kind, std::uint32_t a = 0, std::uint32_t b = 0, std::uint32_t c = 0, std::uint32_t d = 0);
     void publish_snapshot();
     bool use_red() const;
