@@ -34,9 +34,10 @@ void RingTopology::set(Cable cable, bool up) const {
 }
 
 std::uint64_t RingTopology::frames_dropped_in_cables() const {
-    std::uint64_t dropped = sim_->tx_dropped("sim-main") + sim_->tx_dropped("sim-red") + m1_->tx_dropped("m1-main");
-    if (controllers_ == Controllers::Single) return dropped + m1_->tx_dropped("m1-red");
-    return dropped + m1_->tx_dropped("m1-red") + m2_->tx_dropped("m2-main") + m2_->tx_dropped("m2-red");
+    std::uint64_t dropped = sim_->tx_dropped("sim-main") + sim_->tx_dropped("sim-red") +
+                            m1_->tx_dropped("m1-main") + m1_->tx_dropped("m1-red");
+    if (m2_) dropped += m2_->tx_dropped("m2-main") + m2_->tx_dropped("m2-red");
+    return dropped;
 }
 
 }  // namespace ecpair::test
