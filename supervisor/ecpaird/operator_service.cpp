@@ -169,6 +169,7 @@ void OperatorService::add_supervisor_status(const redundancy::RedundancySnapshot
     out.set_comm_timeout_ms(static_cast<std::uint32_t>(
         std::chrono::duration_cast<std::chrono::milliseconds>(s.comm_timeout).count()));
     out.set_silence_ms(std::chrono::duration<double, std::milli>(s.silence).count());
+    out.set_longest_silence_ms(std::chrono::duration<double, std::milli>(s.longest_silence).count());
     out.set_last_cmf_age_ms(age_ms(pair.last_cmf_completed));
     out.set_partner_answer_age_ms(age_ms(pair.partner_last_answer));
     if (pair.state == redundancy::RedState::Active && pair.partner_status) {
