@@ -28,6 +28,26 @@ std::shared_ptr<spdlog::logger> log() { return logger("redundancy"); }
 
 std::uint32_t as_number(RedState s) { return static_cast<std::uint32_t>(s); }
 
+// The channel numbers its frames from 0; on the master they carry their own
+// index range, and no more than the pair's acyclic frame budget goes out.
+class ChannelSender final : public master::FrameSender {
+public:
+    ChannelSender(master::FrameSender& inner, std::uint16_t base, std::size_t budget)
+        : inner_(inner), base_(base), budget_(budget) {}
+    Bytes buffer() override { return inner_.buffer(); }
+    wire::EthernetHeader ethernet() const override { return inner_.ethernet(); }
+    void send(std::uint16_t index, Bytes frame) override {
+        if (budget_ == 0) return;
+        --budget_;
+        inner_.send(static_cast<std::uint16_t>(base_ + index), frame);
+    }
+
+private:
+    master::FrameSender& inner_;
+    std::uint16_t base_;
+    std::size_t budget_;
+};
+
 }  // namespace
 
 std::string_view to_string(RedState state) { return state == RedState::Active ? "ACTIVE" : "INACTIVE"; }
@@ -63,13 +83,15 @@ RedundancyController::RedundancyController(master::Master& master, const Redunda
     slaves_.resize(master.eni().slaves.size());
 
     // The INACTIVE answers in the CMF as it forwards it, once per frame.
-    forwarding_.set_hook([this](master::LinkRole, wire::FrameView& frame, bool first_pass) {
+    forwarding_.set_hook([this](master::LinkRole arrived_on, wire::FrameView& frame, bool first_pass) {
+        if (channel_) channel_->process(arrived_on, frame, first_pass);
         if (!first_pass) return;
         std::lock_guard lock(pd_in_mutex_);
         process_as_inactive(frame, pd_in_to_send_);
     });
     forwarding_.set_stored_callback([this](master::LinkRole arrived_on, ConstBytes frame, bool first_pass) {
         if (first_pass) mirror_->on_first_pass(arrived_on, frame);
+        if (channel_) channel_->forwarded(arrived_on, frame, first_pass);
     });
 
     const RedState initial = options_.start_active ? RedState::Active : RedState::Inactive;
@@ -84,6 +106,11 @@ RedundancyController::RedundancyController(master::Master& master, const Redunda
 }
 
 RedundancyController::~RedundancyController() = default;
+
+void RedundancyController::set_acyclic_channel(AcyclicMasterRedChannel* channel) {
+    channel_ = channel;
+    if (channel_) channel_->role_changed(state_.load() == RedState::Active);
+}
 
 void RedundancyController::request(RedState state) {
     if (requested_.exchange(state) != state) log()->info("{} requested", to_string(state));
@@ -162,6 +189,7 @@ void RedundancyController::change_role(RedState to, master::ProcessImage& image)
         log()->warn("now INACTIVE: sending stops, store-and-forward and mirror from the partner");
         raise(master::EventKind::RedStateChanged, as_number(from), as_number(to));
     }
+    if (channel_) channel_->role_changed(to == RedState::Active);
     if (on_role_change_) on_role_change_(change);
 }
 
@@ -210,6 +238,10 @@ void RedundancyController::send_frames(master::FrameSender& sender, std::uint64_
         return;
     }
     history_.record(cycle, image_->inputs(), image_->outputs(), content.master_state);
+    if (channel_) {
+        ChannelSender channel_sender(sender, kAcyclicChannelIndexBase, options_.parameters.max_acyc_frames_per_cycle);
+        channel_->send_frames(channel_sender, cycle, options_.parameters.max_acyc_frames_per_cycle);
+    }
 }
 
 void RedundancyController::read_partner_answer(ConstBytes frame) {
@@ -234,8 +266,12 @@ void RedundancyController::read_partner_answer(ConstBytes frame) {
     }
 }
 
-void RedundancyController::complete(std::uint16_t, const master::ReturnedCopy& main_copy,
+void RedundancyController::complete(std::uint16_t index, const master::ReturnedCopy& main_copy,
                                     const master::ReturnedCopy& red_copy) {
+    if (index >= kAcyclicChannelIndexBase) {
+        if (channel_) channel_->complete(static_cast<std::uint16_t>(index - kAcyclicChannelIndexBase), main_copy, red_copy);
+        return;
+    }
     for (const auto* copy : {&main_copy, &red_copy}) {
         if (copy->path != master::CopyPath::Missing) read_partner_answer(copy->frame);
     }

@@ -26,6 +26,7 @@
 #include "ecpair/redundancy/topology_verifier.hpp"
 #include "ecpair/sequencer/master_state_machine.hpp"
 #include "ecpair/sequencer/slave_monitor.hpp"
+#include "ecpair/tap_bridge/tap_bridge.hpp"
 #include "operator_service.hpp"
 
 namespace ecpair::daemon {
@@ -67,6 +68,7 @@ private:
     std::unique_ptr<DemoApplication> demo_;
     std::unique_ptr<sequencer::MasterStateMachine> state_machine_;
     std::unique_ptr<sequencer::SlaveMonitor> slave_monitor_;
+    std::unique_ptr<tap_bridge::TapBridge> tap_bridge_;  // only with a tap block; outlives the controller
     std::unique_ptr<redundancy::RedundancyController> redundancy_;  // only in a redundant pair
     std::unique_ptr<redundancy::TopologyVerifier> topology_verifier_;
     std::unique_ptr<master::CycleThread> cycle_thread_;

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "ecpair/wire/al_status.hpp"
+#include "tap_bridge_status.hpp"
 
 namespace ecpair::daemon {
 namespace {
@@ -94,6 +95,7 @@ control::StatusReply OperatorService::status(const control::StatusRequest& reque
         out->set_dropped_non_ethercat(r.forwarding.dropped_non_ethercat);
         out->set_dropped_damaged(r.forwarding.dropped_damaged);
     }
+    if (tap_bridge_) fill_tap_bridge_status(*tap_bridge_, *reply.mutable_tap_bridge());
     const auto loop = demo_.stats();
     auto* l = reply.mutable_loopback();
     l->set_cycles_checked(loop.cycles_checked);

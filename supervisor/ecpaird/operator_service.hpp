@@ -12,6 +12,7 @@
 #include "ecpair/master/master.hpp"
 #include "ecpair/redundancy/redundancy_controller.hpp"
 #include "ecpair/sequencer/master_state_machine.hpp"
+#include "ecpair/tap_bridge/tap_bridge.hpp"
 
 namespace ecpair::daemon {
 
@@ -31,6 +32,7 @@ public:
     std::optional<std::string> set_master_state(const control::SetMasterStateRequest& request) override;
     std::optional<std::string> set_red_state(const control::SetRedStateRequest& request) override;
     control::ImageHistoryReply image_history(const control::ImageHistoryRequest& request) override;
+    void set_tap_bridge(const tap_bridge::TapBridge* bridge) { tap_bridge_ = bridge; }
 
 private:
     const config::DaemonSettings& settings_;
@@ -39,6 +41,7 @@ private:
     const master::CycleThread& cycle_thread_;
     const DemoApplication& demo_;
     redundancy::RedundancyController* redundancy_;  // null outside a pair
+    const tap_bridge::TapBridge* tap_bridge_ = nullptr;  // null without a tap block
 };
 
 // The event as the operator API carries it.

@@ -64,6 +64,52 @@ eni::SlaveState to_state(config::TargetState state) {
     }
 }
 
+// The tap block; an error is (field, message).
+Expected<tap_bridge::TapBridgeOptions, std::pair<std::string, std::string>> tap_settings(const config::Tap& tap,
+                                                                                         bool redundancy) {
+    using Error = std::pair<std::string, std::string>;
+    if (!redundancy) {
+        return unexpected(Error{"tap", "the TAP bridge rides on the pair's frames: it needs redundancy { enabled: true }"});
+    }
+    tap_bridge::TapBridgeOptions options;
+    if (!tap.name().empty()) options.name = tap.name();
+    if (options.name.size() > 15) {
+        return unexpected(Error{"tap.name", fmt::format("'{}' is longer than the 15 characters of an interface name", options.name)});
+    }
+    std::size_t ipv4 = 0;
+    for (const auto& text : tap.address()) {
+        auto address = tap_bridge::InterfaceAddress::parse(text);
+        if (!address) return unexpected(Error{"tap.address", address.error()});
+        if (address->family == tap_bridge::InterfaceAddress::Family::Ipv4 && ++ipv4 > 1) {
+            return unexpected(Error{"tap.address", fmt::format("'{}': at most one IPv4 address (any number of IPv6)", text)});
+        }
+        options.addresses.push_back(*address);
+    }
+    if (!tap.mac().empty()) {
+        const auto mac = wire::MacAddress::parse(tap.mac());
+        if (!mac || mac->is_group() || *mac == wire::MacAddress{}) {
+            return unexpected(Error{"tap.mac", fmt::format("'{}' is no unicast MAC address (aa:bb:cc:dd:ee:ff)", tap.mac())});
+        }
+        options.mac = *mac;
+    }
+    if (tap.has_poll_size()) options.poll_size = tap.poll_size();
+    if (tap.has_mtu()) options.mtu = tap.mtu();
+    if (auto mtu = tap_bridge::TapBridge::mtu_for(options); !mtu) {
+        return unexpected(Error{tap.has_mtu() && options.poll_size >= tap_bridge::kMinPollData &&
+                                        options.poll_size <= tap_bridge::kMaxBridgeDatagramData
+                                    ? "tap.mtu"
+                                    : "tap.poll_size",
+                                mtu.error()});
+    }
+    if (tap.has_queue_frames()) {
+        if (tap.queue_frames() < 1 || tap.queue_frames() > 4096) {
+            return unexpected(Error{"tap.queue_frames", fmt::format("must be 1..4096 (got {})", tap.queue_frames())});
+        }
+        options.queue_frames = tap.queue_frames();
+    }
+    return options;
+}
+
 }  // namespace
 
 std::string ConfigError::describe() const {
@@ -169,6 +215,11 @@ Expected<DaemonSettings, ConfigError> parse_daemon_settings(const std::string& t
         out.master_pd_in_size = r.master_pd_in_size();
         if (r.has_update_slave_pd_in()) out.update_slave_pd_in = r.update_slave_pd_in();
         if (r.has_update_slave_pd_out()) out.update_slave_pd_out = r.update_slave_pd_out();
+    }
+    if (proto.has_tap()) {
+        auto tap = tap_settings(proto.tap(), s.redundancy.enabled);
+        if (!tap) return fail(tap.error().first, tap.error().second);
+        s.tap = std::move(*tap);
     }
     return s;
 }
