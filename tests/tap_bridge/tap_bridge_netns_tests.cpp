@@ -8,6 +8,8 @@
 
 #include <algorithm>
 #include <fstream>
+#include <set>
+#include <sstream>
 #include <thread>
 
 #include <catch2/catch.hpp>
@@ -108,6 +110,56 @@ std::vector<std::uint8_t> bridge_frame(const std::vector<std::uint8_t>& data) {
     return {frame.begin(), frame.end()};
 }
 
+// deploy/wireshark/ecpair.lua on a capture of the master-master cable while
+// m1 pings m2: CMF cycle counters that count up, one fingerprint, flags, and
+// the bridge datagrams with the ICMP they carry.
+void check_dissector(const BridgedPair& pair) {
+    const auto file = pair.dir / "m1-red.pcapng";
+    std::thread pinger([&] { pair.topology.m1().exec(std::string("ping -n -c 80 -i 0.05 ") + kM2Address + " >/dev/null 2>&1"); });
+    const int captured = capture(pair.topology.m1().name(), "m1-red", 2, file);
+    pinger.join();
+    REQUIRE(captured == 0);
+    const std::string lua = "lua_script:" + std::string(ECPAIR_SOURCE_DIR) + "/deploy/wireshark/ecpair.lua";
+
+    const auto cmf = run_tshark(file, {"-X", lua, "-Y", "ecpair.cmf.cycle", "-T", "fields", "-e", "ecpair.cmf.cycle",
+                                       "-e", "ecpair.cmf.fingerprint", "-e", "ecpair.cmf.flags", "-e",
+                                       "ecpair.cmf.master_state"});
+    REQUIRE(cmf.exit_status == 0);
+    REQUIRE(cmf.lines.size() > 100);
+    std::set<std::string> fingerprints;
+    std::uint64_t first = 0;
+    std::uint64_t last = 0;
+    for (const auto& line : cmf.lines) {
+        std::istringstream fields(line);
+        std::string cycle, fingerprint, flags, state;
+        fields >> cycle >> fingerprint >> flags >> state;
+        fingerprints.insert(fingerprint);
+        last = std::stoull(cycle);
+        if (first == 0) first = last;
+        CHECK(flags == "0x0000");  // ring closed, no hand-off
+    }
+    CHECK(fingerprints.size() == 1);
+    CHECK(fingerprints.begin()->rfind("0x", 0) == 0);
+    CHECK(last > first + 1000);  // 2 s at 1 ms
+
+    const auto bridge = run_tshark(file, {"-X", lua, "-Y", "ecpair.tb", "-T", "fields", "-e", "ecpair.tb.kind", "-e",
+                                          "ecpair.tb.crc_ok", "-e", "icmp.type"});
+    REQUIRE(bridge.exit_status == 0);
+    std::set<std::string> kinds;
+    std::set<std::string> icmp;
+    for (const auto& line : bridge.lines) {
+        std::istringstream fields(line);
+        std::string kind, crc_ok, type;
+        fields >> kind >> crc_ok >> type;
+        kinds.insert(kind);
+        CHECK(crc_ok == "1");
+        if (!type.empty()) icmp.insert(type);
+    }
+    // m1 sends DATA (the echo requests) and POLLs out of RED; m2's ANSWERs (the replies) come back through it.
+    CHECK(kinds == std::set<std::string>{"1", "2", "3"});
+    CHECK(icmp == std::set<std::string>{"0", "8"});
+}
+
 }  // namespace
 
 TEST_CASE("IP between the masters: ping both ways, TCP with checksums, the TAP sees only IP",
@@ -139,12 +191,26 @@ TEST_CASE("IP between the masters: ping both ways, TCP with checksums, the TAP s
         CHECK((type == "0x0800" || type == "0x0806"));
     }
 
+    check_dissector(pair);
+
     transfer(pair.topology.m1(), pair.topology.m2(), kM2Address, 4u << 20, 7701);
     transfer(pair.topology.m2(), pair.topology.m1(), kM1Address, 2u << 20, 7702);
 
-    const auto m1_status = pair.m1.status();
+    // Counters of both ends once nothing moves any more (TCP's last ACKs, ARP).
+    StatusReply m1_status = pair.m1.status();
+    ecpair::control::TapBridgeStatus b = pair.m2.status().tap_bridge();
+    for (int i = 0; i < 40; ++i) {
+        std::this_thread::sleep_for(50ms);
+        const auto m1_again = pair.m1.status();
+        const auto b_again = pair.m2.status().tap_bridge();
+        const bool still = m1_again.tap_bridge().tx_frames() == m1_status.tap_bridge().tx_frames() &&
+                           b_again.tx_frames() == b.tx_frames() && m1_again.tap_bridge().rx_frames() ==
+                           m1_status.tap_bridge().rx_frames() && b_again.rx_frames() == b.rx_frames();
+        m1_status = m1_again;
+        b = b_again;
+        if (still) break;
+    }
     const auto a = m1_status.tap_bridge();
-    const auto b = pair.m2.status().tap_bridge();
     INFO("m1: " << a.ShortDebugString() << "\nm1 counters: " << m1_status.counters().ShortDebugString() << "\nm2: " << b.ShortDebugString());
     CHECK(a.tx_bytes() > (4u << 20));
     CHECK(b.tx_bytes() > (2u << 20));
