@@ -5,6 +5,7 @@
 #include "ecpair/config/daemon_settings.hpp"
 
 #include <algorithm>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -41,10 +42,18 @@ struct Locations {
         std::vector<std::string> names;
         while (std::getline(parts, part, '.')) names.push_back(part);
         for (std::size_t i = 0; i < names.size(); ++i) {
+            // A repeated field's element is named "field[index]".
+            int index = -1;
+            if (const auto bracket = names[i].find('['); bracket != std::string::npos) {
+                index = std::atoi(names[i].c_str() + bracket + 1);
+                names[i].resize(bracket);
+            }
             const auto* field = current->GetDescriptor()->FindFieldByName(names[i]);
             if (field == nullptr) return {0, 0};
+            if (field->is_repeated() != (index >= 0)) return {0, 0};
+            if (index >= 0 && index >= current->GetReflection()->FieldSize(*current, field)) return {0, 0};
             if (i + 1 == names.size()) {
-                const auto location = node->GetLocation(field, -1);
+                const auto location = node->GetLocation(field, index);
                 return {location.line + 1, location.column + 1};
             }
             node = node->GetTreeForNested(field, -1);
@@ -77,11 +86,13 @@ Expected<tap_bridge::TapBridgeOptions, std::pair<std::string, std::string>> tap_
         return unexpected(Error{"tap.name", fmt::format("'{}' is longer than the 15 characters of an interface name", options.name)});
     }
     std::size_t ipv4 = 0;
-    for (const auto& text : tap.address()) {
-        auto address = tap_bridge::InterfaceAddress::parse(text);
-        if (!address) return unexpected(Error{"tap.address", address.error()});
+    for (int i = 0; i < tap.address_size(); ++i) {
+        const std::string field = fmt::format("tap.address[{}]", i);
+        auto address = tap_bridge::InterfaceAddress::parse(tap.address(i));
+        if (!address) return unexpected(Error{field, address.error()});
         if (address->family == tap_bridge::InterfaceAddress::Family::Ipv4 && ++ipv4 > 1) {
-            return unexpected(Error{"tap.address", fmt::format("'{}': at most one IPv4 address (any number of IPv6)", text)});
+            return unexpected(
+                Error{field, fmt::format("'{}': at most one IPv4 address (any number of IPv6)", tap.address(i))});
         }
         options.addresses.push_back(*address);
     }
