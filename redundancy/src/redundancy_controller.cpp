@@ -126,6 +126,7 @@ void RedundancyController::set_master_pd_in(ConstBytes data) {
 void RedundancyController::on_frame(master::LinkRole arrived_on, ConstBytes frame, link::Clock::time_point received_at) {
     if (state_.load(std::memory_order_acquire) == RedState::Active) {
         master_.on_frame(arrived_on, frame, received_at);
+        if (channel_) channel_->returned(arrived_on, frame);
     } else {
         forwarding_.on_frame(arrived_on, frame);
     }

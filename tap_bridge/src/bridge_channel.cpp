@@ -3,8 +3,10 @@
 //   offer            TAP frame -> size check -> outbound queue
 //   send_frames      plan_slots() -> DATA datagrams packed from the outbound
 //   (ACTIVE)         queue, then POLLs of poll_size; one datagram per frame
-//   complete         each returned copy: ANSWER -> deliver (once), POLL as
-//   (ACTIVE)         sent -> unanswered, our own DATA -> nothing
+//   returned         every frame back at the ACTIVE (receive threads):
+//   (ACTIVE)         ANSWER -> deliver (once); our own DATA and POLLs -> nothing
+//   complete         next cycle, the copies that came back in time: a poll
+//   (ACTIVE)         answered, or returned as sent (unanswered)
 //   process          POLL on its first pass -> answer(): the fill for this
 //   (INACTIVE)       poll if the other copy made one, else a new one packed
 //                    from the outbound queue; WKC + 1
@@ -65,7 +67,7 @@ void BridgeChannel::role_changed(bool active) {
     if (active_.exchange(active) == active && role_since_ns_.load() != 0) return;
     role_since_ns_.store(now_ns());
     last_exchange_ns_.store(0);
-    partner_backlog_ = 0;
+    partner_backlog_.store(0);
     cycles_since_data_ = 0;
     cycles_since_poll_ = 0;
     log()->info("bridge follows the role: {}", active ? "ACTIVE (sends DATA and POLLs after the CMF)"
@@ -95,7 +97,7 @@ void BridgeChannel::send_frames(master::FrameSender& sender, std::uint64_t, std:
     SlotDemand demand;
     demand.slots = max_frames;
     demand.own_bytes = outbound_.bytes() + outbound_.depth() * kFrameLengthPrefix;
-    demand.partner_bytes = partner_backlog_;
+    demand.partner_bytes = partner_backlog_.load(std::memory_order_relaxed);
     demand.data_room = kMaxBridgePayload;
     demand.poll_room = options_.poll_size - kBridgeHeaderSize;
     demand.cycles_since_data = cycles_since_data_;
@@ -131,31 +133,45 @@ void BridgeChannel::count_garbled(const BridgeError& error) {
     }
 }
 
+void BridgeChannel::returned(master::LinkRole, ConstBytes frame) {
+    auto view = wire::ConstFrameView::parse(frame);
+    if (!view) return;
+    for (const auto d : *view) {
+        if (!is_bridge_datagram(d)) continue;
+        const auto data = d.data();
+        // Our own DATA and POLLs come back too; only what the partner wrote matters here.
+        if (data.size() <= kKindAt || data[kKindAt] == static_cast<std::uint8_t>(BridgeKind::Data) ||
+            data[kKindAt] == static_cast<std::uint8_t>(BridgeKind::Poll)) {
+            continue;
+        }
+        const auto decoded = decode_bridge_datagram(data, d.frame_offset() + wire::kDatagramHeaderSize);
+        if (!decoded) {
+            count_garbled(decoded.error());
+            continue;
+        }
+        partner_backlog_.store(decoded->header.backlog, std::memory_order_relaxed);
+        last_exchange_ns_.store(now_ns(), std::memory_order_relaxed);
+        deliver(*decoded);
+    }
+}
+
 void BridgeChannel::complete(std::uint16_t, const master::ReturnedCopy& main_copy, const master::ReturnedCopy& red_copy) {
+    // What it carried was delivered by returned() as it arrived; here only the count.
     bool answered = false;
-    bool unanswered_poll = false;
+    bool unanswered = false;
     for (const auto* copy : {&main_copy, &red_copy}) {
         if (copy->path == master::CopyPath::Missing) continue;
         auto view = wire::ConstFrameView::parse(copy->frame);
         if (!view) continue;
         for (const auto d : *view) {
-            if (!is_bridge_datagram(d)) continue;
-            const auto decoded = decode_bridge_datagram(d.data(), d.frame_offset() + wire::kDatagramHeaderSize);
-            if (!decoded) {
-                count_garbled(decoded.error());
-                continue;
-            }
-            if (decoded->header.kind == BridgeKind::Poll) unanswered_poll = true;
-            if (decoded->header.kind != BridgeKind::Answer) continue;  // our own DATA, or a POLL nobody filled
-            answered = true;
-            partner_backlog_ = decoded->header.backlog;
-            last_exchange_ns_.store(now_ns(), std::memory_order_relaxed);
-            deliver(*decoded);
+            if (!is_bridge_datagram(d) || d.data().size() <= kKindAt) continue;
+            answered = answered || d.data()[kKindAt] == static_cast<std::uint8_t>(BridgeKind::Answer);
+            unanswered = unanswered || d.data()[kKindAt] == static_cast<std::uint8_t>(BridgeKind::Poll);
         }
     }
     if (answered) {
         counters_.polls_answered.fetch_add(1, std::memory_order_relaxed);
-    } else if (unanswered_poll) {
+    } else if (unanswered) {
         counters_.polls_unanswered.fetch_add(1, std::memory_order_relaxed);
     }
 }

@@ -72,7 +72,9 @@ BridgeChannelOptions options(std::uint32_t session, VirtualClock& clock, std::si
 }
 
 // The ring between an ACTIVE and an INACTIVE end. Each copy passes the
-// INACTIVE once, on its first pass (as StoreAndForward calls the seam).
+// INACTIVE once, on its first pass (as StoreAndForward calls the seam), and
+// comes back to the ACTIVE (as the controller's receive path and the next
+// cycle call it).
 struct Ring {
     VirtualClock clock;
     BridgeChannel a{options(0xAAAA0001, clock)};
@@ -119,6 +121,10 @@ struct Ring {
                 if (!lose_main) pass(main, LinkRole::Red);
                 if (!lose_red) pass(red, LinkRole::Main);
             }
+            // Back at the ACTIVE: the receive threads hand every frame over at once...
+            if (!lose_main) active->returned(LinkRole::Red, main);
+            if (!lose_red) active->returned(LinkRole::Main, red);
+            // ...and next cycle the copies that came back in time.
             const ReturnedCopy main_copy{lose_main ? ecpair::ConstBytes{} : ecpair::ConstBytes(main),
                                          lose_main ? CopyPath::Missing : CopyPath::ThroughRing};
             const ReturnedCopy red_copy{lose_red ? ecpair::ConstBytes{} : ecpair::ConstBytes(red),
@@ -234,10 +240,24 @@ TEST_CASE("a garbled answer is counted and never delivered", "[tap_bridge]") {
     Frame copy = sender.sent[0].second;
     ring.pass(copy, LinkRole::Main);
     copy[60] ^= 0x40;  // a bit of the packed frame, after the INACTIVE filled it
+    ring.a.returned(LinkRole::Red, copy);
     ring.a.complete(0, ReturnedCopy{copy, CopyPath::ThroughRing}, ReturnedCopy{});
     CHECK(ring.a.counters().dropped_garbled == 1);
+    CHECK(ring.a.counters().polls_answered == 1);  // it came back filled, if garbled
     CHECK(ring.a.counters().rx_frames == 0);
     CHECK(ring.a.inbound_depth() == 0);
+}
+
+TEST_CASE("an answer that comes back after its cycle closed is still delivered", "[tap_bridge]") {
+    Ring ring;
+    ring.b.offer(ethernet(9));
+    RecordingSender sender;
+    ring.a.send_frames(sender, 1, 1);
+    Frame copy = sender.sent[0].second;
+    ring.pass(copy, LinkRole::Main);
+    ring.a.complete(0, ReturnedCopy{}, ReturnedCopy{});  // the cycle closed without it
+    ring.a.returned(LinkRole::Main, copy);                // then it arrived
+    CHECK(drain(ring.a.inbound()) == std::vector<Frame>{ethernet(9)});
 }
 
 TEST_CASE("a poll nobody filled counts as unanswered", "[tap_bridge]") {

@@ -1,7 +1,7 @@
 // Fuzz target: bytes from the bus, read by the bridge as every role reads
 // them. The input is taken both as one datagram's data
 // (decode_bridge_datagram) and as a whole EtherCAT frame passing an INACTIVE
-// end (process, forwarded) and returning to an ACTIVE end (complete).
+// end (process, forwarded) and returning to an ACTIVE end (returned, complete).
 // Whatever the bytes: no crash, and what reaches a TAP queue is a whole
 // Ethernet frame that some valid datagram carried.
 
@@ -54,6 +54,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (auto view = ecpair::wire::FrameView::parse(frame)) {
         inactive.process(ecpair::master::LinkRole::Main, *view, true);
         inactive.forwarded(ecpair::master::LinkRole::Main, frame, true);
+        active.returned(ecpair::master::LinkRole::Red, frame);
         active.complete(0, ecpair::master::ReturnedCopy{frame, ecpair::master::CopyPath::ThroughRing},
                         ecpair::master::ReturnedCopy{});
     }

@@ -7,6 +7,10 @@
 //                           max_acyc_frames_per_cycle frames; complete() with
 //                           the returned copies of each of them next cycle
 //                           (indices are the channel's own, 0-based).
+//   ACTIVE, receive threads: returned() with every frame that comes back, at
+//                           once: what the partner wrote can be taken without
+//                           waiting for the next cycle, and a copy that comes
+//                           back after its cycle closed is not lost.
 //   INACTIVE, receive threads (MAIN and RED may run at once):
 //                           process() on every forwarded frame before it leaves
 //                           (fill a poll in place), forwarded() after it left
@@ -37,6 +41,7 @@ public:
     virtual void send_frames(master::FrameSender& sender, std::uint64_t cycle, std::size_t max_frames) = 0;
     virtual void complete(std::uint16_t index, const master::ReturnedCopy& main_copy,
                           const master::ReturnedCopy& red_copy) = 0;
+    virtual void returned(master::LinkRole arrived_on, ConstBytes frame) = 0;
 
     virtual void process(master::LinkRole arrived_on, wire::FrameView& frame, bool first_pass) = 0;
     virtual void forwarded(master::LinkRole arrived_on, ConstBytes frame, bool first_pass) = 0;

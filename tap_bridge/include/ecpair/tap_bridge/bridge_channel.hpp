@@ -6,9 +6,10 @@
 //
 //   ACTIVE   each cycle, after the CMF: DATA datagrams with our queued
 //            frames and POLLs for the partner's, shared out by plan_slots();
-//            next cycle the returned copies: the partner's ANSWERs are
-//            delivered (the MAIN and the RED copy carry the same answer:
-//            delivered once).
+//            as the copies come back (receive threads): the partner's
+//            ANSWERs are delivered (the MAIN and the RED copy carry the same
+//            answer: delivered once); next cycle, the copies that came back
+//            in time are counted as answered or not.
 //   INACTIVE as a POLL passes (on its first pass, before it is forwarded):
 //            fill it with our queued frames; the other copy of the same
 //            poll, arriving on the other adapter, gets the same answer (fill
@@ -20,7 +21,7 @@
 //
 // Threads: offer() on the TAP reader; inbound() drained by the TAP writer;
 // the seam's calls on the cycle thread (ACTIVE) or the receive threads
-// (INACTIVE, two at once). Queues and fill store are allocated at
+// (returned() of the ACTIVE, everything of the INACTIVE; two at once). Queues and fill store are allocated at
 // construction; every lock is held for a copy.
 
 #include <array>
@@ -100,6 +101,7 @@ public:
     void send_frames(master::FrameSender& sender, std::uint64_t cycle, std::size_t max_frames) override;
     void complete(std::uint16_t index, const master::ReturnedCopy& main_copy,
                   const master::ReturnedCopy& red_copy) override;
+    void returned(master::LinkRole arrived_on, ConstBytes frame) override;
     void process(master::LinkRole arrived_on, wire::FrameView& frame, bool first_pass) override;
     void forwarded(master::LinkRole arrived_on, ConstBytes frame, bool first_pass) override;
 
@@ -136,7 +138,7 @@ private:
     std::uint32_t poll_sequence_ = 0;
     std::uint32_t cycles_since_data_ = 0;
     std::uint32_t cycles_since_poll_ = 0;
-    std::size_t partner_backlog_ = 0;
+    std::atomic<std::size_t> partner_backlog_{0};  // written by the receive threads
 
     // INACTIVE, receive threads.
     std::mutex fill_mutex_;
