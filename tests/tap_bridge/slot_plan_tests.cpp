@@ -62,7 +62,7 @@ TEST_CASE("congested both ways: shared by demand, one frame each at least", "[ta
     CHECK(plan_slots(demand(1, 10 * kRoom, 10 * kRoom, 1, 3)) == SlotPlan{0, 1});
 }
 
-TEST_CASE("a bulk transfer against acknowledgements keeps all but one frame in 16", "[tap_bridge]") {
+TEST_CASE("a bulk transfer against acknowledgements keeps all but one frame in 32", "[tap_bridge]") {
     // Two frames a cycle, our queue always full, the partner always has a
     // few ACKs waiting (reported 0 after each answer: they fit one poll).
     std::uint32_t since_data = 0;

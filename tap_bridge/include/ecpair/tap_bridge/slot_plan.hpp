@@ -19,7 +19,7 @@
 
 namespace ecpair::tap_bridge {
 
-inline constexpr std::uint32_t kLightServeInterval = 8;
+inline constexpr std::uint32_t kLightServeInterval = 16;
 
 struct SlotDemand {
     std::size_t slots = 0;            // frames the budget allows this cycle
