@@ -64,7 +64,7 @@ std::uint16_t BridgeChannel::backlog_bytes() const {
 }
 
 void BridgeChannel::role_changed(bool active) {
-    if (active_.exchange(active) == active && role_since_ns_.load() != 0) return;
+    if (active_.exchange(active) == active) return;
     role_since_ns_.store(now_ns());
     last_exchange_ns_.store(0);
     partner_backlog_.store(0);
