@@ -89,7 +89,6 @@ Expected<std::size_t, CmfWriteError> CmfWriter::write(const CmfContent& content,
         wire::FrameBuilder builder(buffer, ethernet);
         for (; next < parts.size() && parts[next].frame == frame; ++next) {
             const CmfPart& part = parts[next];
-            datagram.index = static_cast<std::uint8_t>(next);
             // check() made sure the frame fits: append cannot fail here.
             const auto view = builder.append(datagram, CmfSegmentHeader::kSize + part.length);
             const Bytes data = view->data();

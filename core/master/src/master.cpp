@@ -376,7 +376,7 @@ bool Master::send_on(LinkRole role, ConstBytes frame) {
 }
 
 void Master::send_copies(FrameKind kind, std::uint16_t index, Bytes frame, std::uint8_t retry_index) {
-    const std::uint8_t id = tracker_.open(kind, index, cycle_);
+    const std::uint8_t id = tracker_.open(kind, index, cycle_, frame);
     auto set_source = [&](LinkRole role) {
         const auto mac = tracker_.source_mac(id, role, retry_index);
         std::copy(mac.bytes.begin(), mac.bytes.end(), frame.begin() + 6);
