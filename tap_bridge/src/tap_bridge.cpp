@@ -46,6 +46,18 @@ std::uint32_t random_session() {
 
 }  // namespace
 
+wire::MacAddress default_mac(std::string_view instance, std::string_view tap) {
+    std::uint64_t hash = 0xcbf29ce484222325ull;  // FNV-1a 64
+    const auto mix = [&hash](std::string_view text) {
+        for (const char c : text) hash = (hash ^ static_cast<std::uint8_t>(c)) * 0x100000001b3ull;
+    };
+    mix(instance);
+    mix("/");
+    mix(tap);
+    return wire::MacAddress{{0x02, 0xec, static_cast<std::uint8_t>(hash >> 24), static_cast<std::uint8_t>(hash >> 16),
+                             static_cast<std::uint8_t>(hash >> 8), static_cast<std::uint8_t>(hash)}};
+}
+
 Expected<std::size_t, std::string> TapBridge::mtu_for(const TapBridgeOptions& options) {
     if (options.poll_size < kMinPollData || options.poll_size > kMaxBridgeDatagramData) {
         return unexpected(fmt::format("tap poll size {} is outside {}..{} bytes", options.poll_size, kMinPollData,

@@ -37,6 +37,11 @@ TEST_CASE("no tap block, no bridge; an empty one gets the defaults", "[config][t
     CHECK_FALSE(s->tap->mtu);
     CHECK(s->tap->poll_size == 1486);
     CHECK(s->tap->queue_frames == 256);
+    // The MAC: the same at every start, another for the partner.
+    REQUIRE(s->tap->mac);
+    CHECK(*s->tap->mac == ecpair::tap_bridge::default_mac("ecpaird", "ecpair0"));
+    CHECK(s->tap->mac->bytes[0] == 0x02);  // locally administered, unicast
+    CHECK(ecpair::tap_bridge::default_mac("m1", "ecpair0") != ecpair::tap_bridge::default_mac("m2", "ecpair0"));
 }
 
 TEST_CASE("a full tap block", "[config][tap_bridge]") {

@@ -24,6 +24,7 @@ TapBridgeOptions options(const std::string& name) {
     TapBridgeOptions o;
     o.name = name;
     o.addresses.push_back(InterfaceAddress::parse("10.78.0.1/24").value());
+    o.addresses.push_back(InterfaceAddress::parse("fd00:78::1/64").value());
     o.mac = ecpair::wire::MacAddress::parse("02:00:00:78:00:01");
     return o;
 }
@@ -73,10 +74,12 @@ TEST_CASE("the TAP device gets its MTU, MAC and address, and frames flow both wa
     CHECK(ns.exec("ip link show ecpt0 | grep -q 'mtu 1446'") == 0);
     CHECK(ns.exec("ip link show ecpt0 | grep -q '02:00:00:78:00:01'") == 0);
     CHECK(ns.exec("ip addr show ecpt0 | grep -q 'inet 10.78.0.1/24'") == 0);
+    // The namespace has IPv6 off by default; an IPv6 address turns it on for the TAP.
+    CHECK(ns.exec("ip -6 addr show ecpt0 | grep -q 'inet6 fd00:78::1/64'") == 0);
     const auto status = bridge->status();
     CHECK(status.name == "ecpt0");
     CHECK(status.mtu == 1446);
-    CHECK(status.addresses == std::vector<std::string>{"10.78.0.1/24"});
+    CHECK(status.addresses == std::vector<std::string>{"10.78.0.1/24", "fd00:78::1/64"});
 
     // The kernel resolves a neighbour on the TAP: ARP requests go out of the
     // TAP and into the channel's queue for the partner.

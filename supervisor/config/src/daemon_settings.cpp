@@ -230,6 +230,7 @@ Expected<DaemonSettings, ConfigError> parse_daemon_settings(const std::string& t
     if (proto.has_tap()) {
         auto tap = tap_settings(proto.tap(), s.redundancy.enabled);
         if (!tap) return fail(tap.error().first, tap.error().second);
+        if (!tap->mac) tap->mac = tap_bridge::default_mac(s.name, tap->name);
         s.tap = std::move(*tap);
     }
     return s;

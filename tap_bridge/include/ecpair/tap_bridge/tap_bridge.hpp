@@ -23,6 +23,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <thread>
 #include <vector>
 
@@ -38,7 +39,7 @@ class TapDevice;
 struct TapBridgeOptions {
     std::string name = "ecpair0";
     std::vector<InterfaceAddress> addresses;  // at most one IPv4, any number of IPv6
-    std::optional<wire::MacAddress> mac;      // else the kernel's (random) one
+    std::optional<wire::MacAddress> mac;      // else the kernel's (random) one; ecpaird gives default_mac()
     std::optional<std::size_t> mtu;           // else the largest that fits
     std::size_t poll_size = kMaxBridgeDatagramData;
     std::size_t queue_frames = 256;
@@ -55,6 +56,12 @@ struct TapBridgeStatus {
     std::size_t inbound_depth = 0;   // the partner's frames waiting for our TAP
     std::size_t queue_capacity = 0;
 };
+
+// A locally administered unicast MAC derived from the instance's and the
+// TAP's names (02:ec + 4 bytes of their FNV-1a hash): the same at every
+// start, so that the partner's neighbour cache stays right when this master
+// restarts, and different for the two members of a pair.
+wire::MacAddress default_mac(std::string_view instance, std::string_view tap);
 
 class TapBridge {
 public:
