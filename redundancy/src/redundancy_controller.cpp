@@ -19,6 +19,7 @@
 #include "ecpair/redundancy/cmf_format.hpp"
 #include "ecpair/redundancy/cmf_inactive.hpp"
 #include "ecpair/wire/frame.hpp"
+#include "channel_sender.hpp"
 #include "mirror.hpp"
 
 namespace ecpair::redundancy {
@@ -27,26 +28,6 @@ namespace {
 std::shared_ptr<spdlog::logger> log() { return logger("redundancy"); }
 
 std::uint32_t as_number(RedState s) { return static_cast<std::uint32_t>(s); }
-
-// The channel numbers its frames from 0; on the master they carry their own
-// index range, and no more than the pair's acyclic frame budget goes out.
-class ChannelSender final : public master::FrameSender {
-public:
-    ChannelSender(master::FrameSender& inner, std::uint16_t base, std::size_t budget)
-        : inner_(inner), base_(base), budget_(budget) {}
-    Bytes buffer() override { return inner_.buffer(); }
-    wire::EthernetHeader ethernet() const override { return inner_.ethernet(); }
-    void send(std::uint16_t index, Bytes frame) override {
-        if (budget_ == 0) return;
-        --budget_;
-        inner_.send(static_cast<std::uint16_t>(base_ + index), frame);
-    }
-
-private:
-    master::FrameSender& inner_;
-    std::uint16_t base_;
-    std::size_t budget_;
-};
 
 }  // namespace
 
