@@ -7,11 +7,22 @@
 // delivered.
 
 #include <algorithm>
+#include <array>
+#include <atomic>
 #include <optional>
 #include <fstream>
 #include <set>
 #include <sstream>
 #include <thread>
+#include <vector>
+
+#include <arpa/inet.h>
+#include <linux/if_ether.h>
+#include <linux/if_packet.h>
+#include <net/if.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <unistd.h>
 
 #include <catch2/catch.hpp>
 
@@ -85,6 +96,63 @@ struct BridgedPair {
     EcpairdProcess m2;
 };
 
+// Runs `tshark_command` (a capture into `file` that ends by itself) inside
+// `ns`, and calls `traffic` again and again while it captures: whenever
+// tshark really starts on a loaded machine, traffic is there.
+template <class Traffic>
+void capture_while(const TestNamespace& ns, const std::string& tshark_command, Traffic&& traffic) {
+    std::atomic<bool> done{false};
+    std::thread capturing([&] {
+        ns.exec(tshark_command + " >/dev/null 2>&1");
+        done = true;
+    });
+    while (!done) {
+        traffic();
+        std::this_thread::sleep_for(20ms);
+    }
+    capturing.join();
+}
+
+// The EtherTypes of the first `count` frames that pass `interface` of `ns`
+// either way (a packet socket of our own, no tshark), calling `traffic`
+// until they are in (bounded: 20 s).
+template <class Traffic>
+std::vector<std::uint16_t> ether_types_on(const TestNamespace& ns, const std::string& interface, std::size_t count,
+                                          Traffic&& traffic) {
+    int fd = -1;
+    {
+        NamespaceScope inside(ns);
+        fd = ::socket(AF_PACKET, SOCK_RAW | SOCK_CLOEXEC, htons(ETH_P_ALL));
+        REQUIRE(fd >= 0);
+        sockaddr_ll where{};
+        where.sll_family = AF_PACKET;
+        where.sll_protocol = htons(ETH_P_ALL);
+        where.sll_ifindex = static_cast<int>(::if_nametoindex(interface.c_str()));
+        REQUIRE(where.sll_ifindex != 0);
+        REQUIRE(::bind(fd, reinterpret_cast<const sockaddr*>(&where), sizeof where) == 0);
+    }
+    std::atomic<bool> done{false};
+    std::vector<std::uint16_t> types;
+    std::thread reader([&] {
+        std::array<std::uint8_t, 2048> frame{};
+        const auto give_up = std::chrono::steady_clock::now() + 20s;
+        while (types.size() < count && std::chrono::steady_clock::now() < give_up) {
+            pollfd p{fd, POLLIN, 0};
+            if (::poll(&p, 1, 100) <= 0) continue;
+            const auto n = ::recv(fd, frame.data(), frame.size(), 0);
+            if (n >= 14) types.push_back(static_cast<std::uint16_t>((frame[12] << 8) | frame[13]));
+        }
+        done = true;
+    });
+    while (!done) {
+        traffic();
+        std::this_thread::sleep_for(20ms);
+    }
+    reader.join();
+    ::close(fd);
+    return types;
+}
+
 // One TCP transfer of `bytes` from `from` to `to`, checksummed at both ends.
 void transfer(const TestNamespace& from, const TestNamespace& to, const std::string& to_address, std::size_t bytes,
               std::uint16_t port) {
@@ -120,52 +188,50 @@ std::vector<std::uint8_t> bridge_frame(const std::vector<std::uint8_t>& data) {
 // the bridge datagrams with the ICMP they carry.
 void check_dissector(const BridgedPair& pair) {
     const auto file = pair.dir / "m1-red.pcapng";
-    int captured = -1;
-    std::thread capturing([&] { captured = capture(pair.topology.m1().name(), "m1-red", 4, file); });
-    // tshark writes the file's header once it captures; then the pings.
-    for (int i = 0; i < 200 && !std::filesystem::exists(file); ++i) std::this_thread::sleep_for(50ms);
-    std::this_thread::sleep_for(200ms);
-    pair.topology.m1().exec(std::string("ping -n -c 20 -i 0.05 ") + kM2Address + " >/dev/null 2>&1");
-    capturing.join();
-    REQUIRE(captured == 0);
+    capture_while(pair.topology.m1(),
+                  "tshark -q -i m1-red -f 'ether proto 0x88a4' -a duration:1 -w " + file.string(),
+                  [&] { pair.topology.m1().exec(std::string("ping -n -c 5 -i 0.05 ") + kM2Address + " >/dev/null 2>&1"); });
+    REQUIRE(std::filesystem::exists(file));
     const std::string lua = "lua_script:" + std::string(ECPAIR_SOURCE_DIR) + "/deploy/wireshark/ecpair.lua";
-
-    const auto cmf = run_tshark(file, {"-X", lua, "-Y", "ecpair.cmf.cycle", "-T", "fields", "-e", "ecpair.cmf.cycle",
-                                       "-e", "ecpair.cmf.fingerprint", "-e", "ecpair.cmf.flags", "-e",
-                                       "ecpair.cmf.master_state"});
-    REQUIRE(cmf.exit_status == 0);
-    REQUIRE(cmf.lines.size() > 100);
-    std::set<std::string> fingerprints;
+    // One pass (tshark is slow to start on a loaded machine): the first CMF
+    // HEADER and the first bridge datagram of each frame.
+    const auto r = run_tshark(file, {"-X", lua, "-Y", "ecpair", "-T", "fields", "-E", "occurrence=f", "-e",
+                                     "ecpair.cmf.cycle", "-e", "ecpair.cmf.fingerprint", "-e", "ecpair.cmf.flags", "-e",
+                                     "ecpair.tb.kind", "-e", "ecpair.tb.crc_ok", "-e", "icmp.type", "-e", "_ws.malformed"});
+    REQUIRE(r.exit_status == 0);
+    std::set<std::string> fingerprints, flags, kinds, crc_ok, icmp;
     std::uint64_t first = 0;
     std::uint64_t last = 0;
-    for (const auto& line : cmf.lines) {
+    std::size_t headers = 0;
+    std::size_t malformed = 0;  // by Wireshark's own EtherCAT dissector, or ours
+    for (const auto& line : r.lines) {
+        std::vector<std::string> f;
         std::istringstream fields(line);
-        std::string cycle, fingerprint, flags, state;
-        fields >> cycle >> fingerprint >> flags >> state;
-        fingerprints.insert(fingerprint);
-        last = std::stoull(cycle);
-        if (first == 0) first = last;
-        CHECK(flags == "0x0000");  // ring closed, no hand-off
+        for (std::string field; std::getline(fields, field, '\t');) f.push_back(field);
+        f.resize(7);
+        if (!f[6].empty()) ++malformed;
+        if (!f[0].empty()) {
+            ++headers;
+            last = std::stoull(f[0]);
+            if (first == 0) first = last;
+            fingerprints.insert(f[1]);
+            flags.insert(f[2]);
+        }
+        if (!f[3].empty()) {
+            kinds.insert(f[3]);
+            crc_ok.insert(f[4]);
+        }
+        if (!f[5].empty()) icmp.insert(f[5]);
     }
+    CHECK(headers > 100);
+    CHECK(malformed == 0);
     CHECK(fingerprints.size() == 1);
     CHECK(fingerprints.begin()->rfind("0x", 0) == 0);
-    CHECK(last > first + 1000);  // more than a second at 1 ms
-
-    const auto bridge = run_tshark(file, {"-X", lua, "-Y", "ecpair.tb", "-T", "fields", "-e", "ecpair.tb.kind", "-e",
-                                          "ecpair.tb.crc_ok", "-e", "icmp.type"});
-    REQUIRE(bridge.exit_status == 0);
-    std::set<std::string> kinds;
-    std::set<std::string> icmp;
-    for (const auto& line : bridge.lines) {
-        std::istringstream fields(line);
-        std::string kind, crc_ok, type;
-        fields >> kind >> crc_ok >> type;
-        kinds.insert(kind);
-        CHECK(crc_ok == "1");
-        if (!type.empty()) icmp.insert(type);
-    }
+    CHECK(flags == std::set<std::string>{"0x0000"});  // ring closed, no hand-off
+    CHECK(last > first + 100);                          // the cycle counter counts
     // m1 sends DATA (the echo requests) and POLLs out of RED; m2's ANSWERs (the replies) come back through it.
     CHECK(kinds == std::set<std::string>{"1", "2", "3"});
+    CHECK(crc_ok == std::set<std::string>{"1"});
     CHECK(icmp == std::set<std::string>{"0", "8"});
 }
 
@@ -192,27 +258,22 @@ TEST_CASE("IP between the masters: ping both ways, TCP with checksums, the TAP s
     CHECK(ipv6);
 
     // The TAP on m2 gets IP and ARP, never our encapsulation or slave frames.
-    const auto tap_capture = pair.dir / "m2-tap.pcapng";
-    std::thread capture_thread([&] {
-        pair.topology.m2().exec("tshark -q -i ecpair0 -a duration:6 -w " + tap_capture.string() + " >/dev/null 2>&1");
-    });
-    // tshark writes the file's header once it captures.
-    for (int i = 0; i < 100 && !std::filesystem::exists(tap_capture); ++i) std::this_thread::sleep_for(50ms);
-    std::this_thread::sleep_for(200ms);
     CHECK(pair.ping(pair.topology.m1(), kM2Address) == 0);
     CHECK(pair.ping(pair.topology.m2(), kM1Address) == 0);
-    capture_thread.join();
-    const auto types = run_tshark(tap_capture, {"-T", "fields", "-e", "eth.type"});
-    CHECK(types.lines.size() >= 20);  // 10 requests and 10 replies at least
-    for (const auto& type : types.lines) {
-        INFO(type);
-        CHECK((type == "0x0800" || type == "0x0806" || type == "0x86dd"));
+    const auto types = ether_types_on(pair.topology.m2(), "ecpair0", 40, [&] {
+        pair.topology.m1().exec(std::string("ping -n -c 2 -i 0.05 ") + kM2Address + " >/dev/null 2>&1");
+        pair.topology.m2().exec(std::string("ping -n -c 2 -i 0.05 ") + kM1Address + " >/dev/null 2>&1");
+    });
+    CHECK(types.size() == 40);
+    for (const auto type : types) {
+        INFO("EtherType 0x" << std::hex << type);
+        CHECK((type == 0x0800 || type == 0x0806 || type == 0x86dd));  // IPv4, ARP, IPv6: never 0x88a4
     }
 
     check_dissector(pair);
 
-    transfer(pair.topology.m1(), pair.topology.m2(), kM2Address, 4u << 20, 7701);
-    transfer(pair.topology.m2(), pair.topology.m1(), kM1Address, 2u << 20, 7702);
+    transfer(pair.topology.m1(), pair.topology.m2(), kM2Address, 3u << 20, 7701);
+    transfer(pair.topology.m2(), pair.topology.m1(), kM1Address, 1u << 20, 7702);
 
     // Counters of both ends once nothing moves any more (TCP's last ACKs, ARP).
     StatusReply m1_status = pair.m1->status();
@@ -230,8 +291,8 @@ TEST_CASE("IP between the masters: ping both ways, TCP with checksums, the TAP s
     }
     const auto a = m1_status.tap_bridge();
     INFO("m1: " << a.ShortDebugString() << "\nm1 counters: " << m1_status.counters().ShortDebugString() << "\nm2: " << b.ShortDebugString());
-    CHECK(a.tx_bytes() > (4u << 20));
-    CHECK(b.tx_bytes() > (2u << 20));
+    CHECK(a.tx_bytes() > (3u << 20));
+    CHECK(b.tx_bytes() > (1u << 20));
     // Nothing arrives that was not sent; what did not arrive (a cycle whose
     // copies both came back late on a loaded machine) is counted as lost.
     CHECK(a.rx_frames() <= b.tx_frames());
@@ -245,9 +306,6 @@ TEST_CASE("IP between the masters: ping both ways, TCP with checksums, the TAP s
     CHECK(b.dropped_garbled() == 0);
     CHECK(a.dropped_oversized() == 0);
     CHECK(b.dropped_oversized() == 0);
-    // The bridge frames went round the ring like the CMF: ecsim's capture stays clean.
-    REQUIRE(pair.ecsim.stop() == 0);
-    CHECK(count_malformed_ethercat_frames(pair.ecsim.pcap()) == 0);
 }
 
 TEST_CASE("a TCP session between the masters survives a switchover", "[netns][tap_bridge][redundancy]") {
@@ -302,6 +360,7 @@ TEST_CASE("garbled and truncated bridge datagrams from the bus are counted, neve
     BridgedPair pair;
     pair.wait_flowing();
     const auto before = pair.m2.status().tap_bridge();
+    const auto m1_before = pair.m1->status().tap_bridge();
 
     // A valid DATA datagram from a made-up partner, then broken copies of it.
     std::vector<std::uint8_t> valid(ecpair::tap_bridge::kBridgeHeaderSize + 2 + 60, 0);
@@ -342,9 +401,21 @@ TEST_CASE("garbled and truncated bridge datagrams from the bus are counted, neve
     INFO(pair.m2.log());
     REQUIRE(after);
     CHECK(after->tap_bridge().dropped_garbled() == before.dropped_garbled() + garbage.size());
-    // Of all that, only the valid datagram's frame reached m2's TAP.
-    REQUIRE(pair.m2.wait_for([&](const StatusReply& s) { return s.tap_bridge().rx_frames() > before.rx_frames(); }, 5s));
-    CHECK(pair.m2.status().tap_bridge().rx_frames() == before.rx_frames() + 1);
+    // Of all that, only the valid datagram's frame reached m2's TAP: m2
+    // received what m1 sent meanwhile (IPv6 and ARP chatter) and one more.
+    const auto delivered = [&] {
+        const auto m2 = pair.m2.status().tap_bridge();
+        const auto m1 = pair.m1->status().tap_bridge();
+        return std::pair{m2.rx_frames() - before.rx_frames(), m1.tx_frames() - m1_before.tx_frames()};
+    };
+    std::pair<std::uint64_t, std::uint64_t> counts;
+    for (const auto give_up = std::chrono::steady_clock::now() + 5s; std::chrono::steady_clock::now() < give_up;) {
+        counts = delivered();
+        if (counts.first == counts.second + 1) break;
+        std::this_thread::sleep_for(50ms);
+    }
+    INFO("m2 received " << counts.first << " frames, m1 sent " << counts.second);
+    CHECK(counts.first == counts.second + 1);
     CHECK(pair.ping(pair.topology.m1(), kM2Address, 3) == 0);
 }
 
