@@ -182,18 +182,23 @@ bool BridgeChannel::deliver(const BridgeDatagram& datagram) {
     std::size_t delivered = 0;
     {
         std::lock_guard lock(rx_mutex_);
-        if (!partner_session_ || *partner_session_ != h.session) {
-            if (partner_session_) log()->info("bridge partner restarted (session {:08x} -> {:08x})", *partner_session_, h.session);
-            partner_session_ = h.session;
-            last_rx_sequence_ = h.sequence - 1;
+        auto it = std::find_if(rx_sessions_.begin(), rx_sessions_.end(),
+                               [&](const RxSession& r) { return r.used && r.session == h.session; });
+        if (it == rx_sessions_.end()) {
+            // A writer not heard from lately (the partner restarted): it starts here.
+            it = std::min_element(rx_sessions_.begin(), rx_sessions_.end(), [](const RxSession& a, const RxSession& b) {
+                return a.used != b.used ? !a.used : a.last_used < b.last_used;
+            });
+            *it = RxSession{h.session, h.sequence - 1, 0, true};
         }
-        const auto ahead = static_cast<std::int32_t>(h.sequence - last_rx_sequence_);
+        it->last_used = ++rx_uses_;
+        const auto ahead = static_cast<std::int32_t>(h.sequence - it->last_sequence);
         if (ahead <= 0) {
             counters_.duplicates.fetch_add(1, std::memory_order_relaxed);
             return false;
         }
         if (ahead > 1) counters_.dropped_lost.fetch_add(static_cast<std::uint64_t>(ahead - 1), std::memory_order_relaxed);
-        last_rx_sequence_ = h.sequence;
+        it->last_sequence = h.sequence;
         datagram.for_each_frame([&](ConstBytes frame) {
             if (!inbound_.push(frame)) {
                 counters_.dropped_rx_queue_full.fetch_add(1, std::memory_order_relaxed);

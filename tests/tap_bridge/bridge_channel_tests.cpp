@@ -340,3 +340,25 @@ TEST_CASE("the flow status says why nothing flows, in virtual time", "[tap_bridg
     CHECK(b.why_not == "no poll from an ACTIVE master for 1.5 s");
     CHECK(ring.a.flow().why_not == "the partner stopped answering our polls 1.5 s ago");
 }
+
+TEST_CASE("frames of another writer in between do not make a partner's copies count twice", "[tap_bridge]") {
+    Ring ring;
+    ring.a.offer(ethernet(1));
+    RecordingSender sender;
+    ring.a.send_frames(sender, 1, 1);
+    REQUIRE(sender.sent.size() == 1);
+    Frame first = sender.sent[0].second;
+    Frame second = first;
+    ring.pass(first, LinkRole::Main);  // the RED copy: delivered
+    // A DATA datagram of a stranger (session 0x5555) arrives between the copies.
+    VirtualClock clock;
+    BridgeChannel stranger(options(0x5555, clock));
+    stranger.role_changed(true);
+    stranger.offer(ethernet(2));
+    RecordingSender other;
+    stranger.send_frames(other, 1, 1);
+    ring.pass(other.sent[0].second, LinkRole::Main);
+    ring.pass(second, LinkRole::Red);  // the MAIN copy of the partner's datagram: a duplicate still
+    CHECK(drain(ring.b.inbound()) == std::vector<Frame>{ethernet(1), ethernet(2)});
+    CHECK(ring.b.counters().duplicates == 1);
+}

@@ -145,10 +145,20 @@ private:
     std::array<Fill, kFills> fills_{};
     std::size_t next_fill_ = 0;
 
-    // Delivery (either role).
+    // Delivery (either role): the last sequence delivered per writer session.
+    // A few sessions are remembered, so that frames of another writer (a
+    // partner that restarted, a second ACTIVE) never make a session start
+    // over and deliver its copies twice.
+    struct RxSession {
+        std::uint32_t session = 0;
+        std::uint32_t last_sequence = 0;
+        std::uint64_t last_used = 0;  // for replacing the least recently used
+        bool used = false;
+    };
+    static constexpr std::size_t kRxSessions = 4;
     std::mutex rx_mutex_;
-    std::optional<std::uint32_t> partner_session_;
-    std::uint32_t last_rx_sequence_ = 0;
+    std::array<RxSession, kRxSessions> rx_sessions_{};
+    std::uint64_t rx_uses_ = 0;
 
     std::atomic<std::int64_t> last_exchange_ns_{0};  // ACTIVE: last answer; INACTIVE: last poll
     std::atomic<std::int64_t> role_since_ns_{0};
