@@ -1,8 +1,9 @@
 -- Wireshark/tshark dissector for what the two masters of an ecpair pair say
 -- to each other on the EtherCAT wire (docs/WIRE_FORMAT.md):
 --   * Cyclic Master Red Frame datagrams (NOP, ADP 0, ADO 0x4155, magic "CM"):
---     segment header, and the HEADER section (cycle counter, flags, pair
---     parameters, fingerprint);
+--     segment header, the HEADER section (cycle counter, flags, pair
+--     parameters, fingerprint; format 2: epoch, hand-off cycle, slaves
+--     reached, sender's MAC, send offset) and the STANDBY_STATUS section;
 --   * TAP bridge datagrams (NOP, ADP 0, ADO 0x4254, magic "TB"): the bridge
 --     header with its CRC checked, and every bridged Ethernet frame handed
 --     to Wireshark's Ethernet dissector (so ARP, IP, ICMP, TCP show).
@@ -22,7 +23,7 @@ local CMF_ADO = 0x4155
 local BRIDGE_ADO = 0x4254
 
 local section_names = { [1] = "HEADER", [2] = "SLAVE_STATE_IMAGE", [3] = "SHADOW_INPUTS",
-                        [4] = "MASTER_PD_OUT", [5] = "MASTER_PD_IN" }
+                        [4] = "MASTER_PD_OUT", [5] = "MASTER_PD_IN", [6] = "STANDBY_STATUS" }
 local state_names = { [1] = "INIT", [2] = "PREOP", [3] = "BOOT", [4] = "SAFEOP", [8] = "OP" }
 local bridge_kinds = { [1] = "DATA", [2] = "POLL", [3] = "ANSWER" }
 
@@ -35,7 +36,7 @@ f.cmf_part = ProtoField.uint16("ecpair.cmf.part", "Part")
 f.cmf_part_count = ProtoField.uint16("ecpair.cmf.part_count", "Part count")
 f.cmf_offset = ProtoField.uint32("ecpair.cmf.offset", "Offset in section")
 f.cmf_cycle_low = ProtoField.uint32("ecpair.cmf.cycle_low", "Cycle (low 32 bits)")
--- CMF HEADER section (68 bytes in version 1, 88 in version 2)
+-- CMF HEADER section (68 bytes in format version 1, 92 in version 2)
 f.cmf_header_version = ProtoField.uint8("ecpair.cmf.header.version", "Header format version")
 f.cmf_master_state = ProtoField.uint8("ecpair.cmf.master_state", "Master state", base.DEC, state_names)
 f.cmf_flags = ProtoField.uint16("ecpair.cmf.flags", "Redundancy flags", base.HEX)
@@ -57,6 +58,19 @@ f.cmf_epoch = ProtoField.uint32("ecpair.cmf.epoch", "Epoch")
 f.cmf_handoff_cycle = ProtoField.uint64("ecpair.cmf.handoff_cycle", "Hand-off cycle")
 f.cmf_slaves_reached = ProtoField.uint16("ecpair.cmf.slaves_reached", "Slaves reached")
 f.cmf_sender_mac = ProtoField.ether("ecpair.cmf.sender_main_mac", "Sender's MAIN MAC")
+f.cmf_send_offset = ProtoField.uint32("ecpair.cmf.send_offset_ns", "Send offset in the sender's cycle (ns)")
+-- CMF STANDBY_STATUS section (16 bytes, version 2: the INACTIVE's answer)
+f.ss_flags = ProtoField.uint8("ecpair.cmf.standby.flags", "Standby flags", base.HEX)
+f.ss_hot = ProtoField.bool("ecpair.cmf.standby.hot", "Hot standby", 8, nil, 0x01)
+f.ss_forced = ProtoField.bool("ecpair.cmf.standby.forced", "Forced to standby", 8, nil, 0x02)
+f.ss_differs = ProtoField.bool("ecpair.cmf.standby.differs", "Partner differs", 8, nil, 0x04)
+f.ss_switchover = ProtoField.bool("ecpair.cmf.standby.switchover", "Switchover requested", 8, nil, 0x08)
+f.ss_ack = ProtoField.bool("ecpair.cmf.standby.handoff_ack", "Hand-off acknowledged", 8, nil, 0x10)
+f.ss_main_up = ProtoField.bool("ecpair.cmf.standby.main_up", "MAIN link up", 8, nil, 0x20)
+f.ss_red_up = ProtoField.bool("ecpair.cmf.standby.red_up", "RED link up", 8, nil, 0x40)
+f.ss_mac = ProtoField.ether("ecpair.cmf.standby.main_mac", "INACTIVE's MAIN MAC")
+f.ss_ack_cycle = ProtoField.uint32("ecpair.cmf.standby.handoff_cycle_low", "Acknowledged hand-off cycle (low 32 bits)")
+f.ss_epoch = ProtoField.uint32("ecpair.cmf.standby.epoch", "Newest epoch known")
 -- TAP bridge datagram (24-byte header, then frames behind 2-byte lengths)
 f.tb = ProtoField.bytes("ecpair.tb", "TAP bridge datagram")
 f.tb_version = ProtoField.uint8("ecpair.tb.version", "Format version")
@@ -105,6 +119,19 @@ local function dissect_cmf(tvb, at, length, pinfo, tree)
     t:add_le(f.cmf_cycle_low, tvb(at + 12, 4))
     t:set_text(string.format("CMF %s part %d/%d", section_names[kind] or "?", tvb(at + 4, 2):le_uint(),
                              tvb(at + 6, 2):le_uint()))
+    if kind == 6 and offset == 0 and length >= 16 + 16 then
+        local a = at + 16
+        local ss = t:add(tvb(a, 16), "STANDBY_STATUS")
+        local flags = ss:add_le(f.ss_flags, tvb(a, 1))
+        for _, field in ipairs({ f.ss_hot, f.ss_forced, f.ss_differs, f.ss_switchover, f.ss_ack, f.ss_main_up,
+                                 f.ss_red_up }) do
+            flags:add_le(field, tvb(a, 1))
+        end
+        ss:add(f.ss_mac, tvb(a + 2, 6))
+        ss:add_le(f.ss_ack_cycle, tvb(a + 8, 4))
+        ss:add_le(f.ss_epoch, tvb(a + 12, 4))
+        return
+    end
     if kind ~= 1 or offset ~= 0 or length < 16 + 68 then return end
     local h = at + 16
     local version = tvb(h, 1):uint()
@@ -127,11 +154,12 @@ local function dissect_cmf(tvb, at, length, pinfo, tree)
     p:add_le(f.cmf_max_acyc, tvb(h + 56, 2))
     p:add_le(f.cmf_param_flags, tvb(h + 58, 1))
     header:add_le(f.cmf_fingerprint, tvb(h + 60, 8))
-    if version >= 2 and length >= 16 + 88 then
+    if version >= 2 and length >= 16 + 92 then
         header:add_le(f.cmf_epoch, tvb(h + 68, 4))
         header:add_le(f.cmf_handoff_cycle, tvb(h + 72, 8))
         header:add_le(f.cmf_slaves_reached, tvb(h + 80, 2))
         header:add(f.cmf_sender_mac, tvb(h + 82, 6))
+        header:add_le(f.cmf_send_offset, tvb(h + 88, 4))
     end
     pinfo.cols.info:append(string.format(" [CMF cycle %s, %s]", tvb(h + 4, 8):le_uint64(),
                                          state_names[tvb(h + 1, 1):uint()] or "?"))

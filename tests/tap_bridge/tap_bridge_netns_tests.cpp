@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
+#include <csignal>
 #include <optional>
 #include <fstream>
 #include <set>
@@ -50,7 +51,7 @@ constexpr const char* kM2Address = "10.77.0.2";
 std::string ipv6_of(const std::string& ipv4) { return "fd00:77::" + ipv4.substr(ipv4.rfind('.') + 1); }
 
 EcpairdSettings member(const std::string& name, const std::string& initial, const std::string& address,
-                       const TempDir& dir) {
+                       const TempDir& dir, const std::string& redundancy_extra = "") {
     EcpairdSettings s;
     s.name = name;
     s.main_if = name + "-main";
@@ -59,7 +60,7 @@ EcpairdSettings member(const std::string& name, const std::string& initial, cons
     s.dir = dir.path();
     s.demo = "NONE";
     s.extra_config = "cycle_time_us: 1000\nmax_acyclic_frames_per_cycle: 4\n"
-                     "redundancy { enabled: true initial_state: " + initial + " }\n"
+                     "redundancy { enabled: true initial_state: " + initial + " " + redundancy_extra + " }\n"
                      "tap { name: \"ecpair0\" address: \"" + address + "/24\" address: \"" + ipv6_of(address) +
                      "/64\" }\n";
     return s;
@@ -69,11 +70,15 @@ bool bridge_flowing(const StatusReply& s) { return s.has_tap_bridge() && s.tap_b
 
 // The pair on a simulated segment, both bridges up.
 struct BridgedPair {
-    explicit BridgedPair(const std::string& m1_initial = "ACTIVE")
+    // m1 takes the bus at once, m2 listens and finds it (or both forced to standby).
+    explicit BridgedPair(bool both_forced_standby = false)
         : topology(Controllers::Pair),
           ecsim(topology.sim(), {kEni, "sim-main", std::string("sim-red"), dir.path(), 70}),
-          m1(std::in_place, topology.m1(), member("m1", m1_initial, std::string(kM1Address), dir)),
-          m2(topology.m2(), member("m2", "INACTIVE", std::string(kM2Address), dir)) {}
+          m1(std::in_place, topology.m1(),
+             member("m1", both_forced_standby ? "INACTIVE" : "ACTIVE", std::string(kM1Address), dir,
+                    both_forced_standby ? "start_in_forced_standby: true" : "")),
+          m2(topology.m2(), member("m2", "INACTIVE", std::string(kM2Address), dir,
+                                   both_forced_standby ? "start_in_forced_standby: true" : "")) {}
 
     void wait_flowing() {
         const bool both = m1->wait_for(bridge_flowing, 15s).has_value() && m2.wait_for(bridge_flowing, 5s).has_value();
@@ -197,9 +202,9 @@ void check_dissector(const BridgedPair& pair) {
     // HEADER and the first bridge datagram of each frame.
     const auto r = run_tshark(file, {"-X", lua, "-Y", "ecpair", "-T", "fields", "-E", "occurrence=f", "-e",
                                      "ecpair.cmf.cycle", "-e", "ecpair.cmf.fingerprint", "-e", "ecpair.cmf.flags", "-e",
-                                     "ecpair.tb.kind", "-e", "ecpair.tb.crc_ok", "-e", "icmp.type", "-e", "_ws.malformed"});
+                                     "ecpair.tb.kind", "-e", "ecpair.tb.crc_ok", "-e", "icmp.type", "-e", "_ws.malformed", "-e", "ecpair.cmf.epoch"});
     REQUIRE(r.exit_status == 0);
-    std::set<std::string> fingerprints, flags, kinds, crc_ok, icmp;
+    std::set<std::string> fingerprints, flags, kinds, crc_ok, icmp, epochs;
     std::uint64_t first = 0;
     std::uint64_t last = 0;
     std::size_t headers = 0;
@@ -208,8 +213,9 @@ void check_dissector(const BridgedPair& pair) {
         std::vector<std::string> f;
         std::istringstream fields(line);
         for (std::string field; std::getline(fields, field, '\t');) f.push_back(field);
-        f.resize(7);
+        f.resize(8);
         if (!f[6].empty()) ++malformed;
+        if (!f[7].empty()) epochs.insert(f[7]);
         if (!f[0].empty()) {
             ++headers;
             last = std::stoull(f[0]);
@@ -229,6 +235,7 @@ void check_dissector(const BridgedPair& pair) {
     CHECK(fingerprints.begin()->rfind("0x", 0) == 0);
     CHECK(flags == std::set<std::string>{"0x0000"});  // ring closed, no hand-off
     CHECK(last > first + 100);                          // the cycle counter counts
+    CHECK(epochs.size() == 1);                          // format 2: m1's ACTIVE term
     // m1 sends DATA (the echo requests) and POLLs out of RED; m2's ANSWERs (the replies) come back through it.
     CHECK(kinds == std::set<std::string>{"1", "2", "3"});
     CHECK(crc_ok == std::set<std::string>{"1"});
@@ -308,7 +315,7 @@ TEST_CASE("IP between the masters: ping both ways, TCP with checksums, the TAP s
     CHECK(b.dropped_oversized() == 0);
 }
 
-TEST_CASE("a TCP session between the masters survives a switchover", "[netns][tap_bridge][redundancy]") {
+TEST_CASE("a TCP session between the masters survives a switchover (hand-off)", "[netns][tap_bridge][redundancy]") {
     BridgedPair pair;
     pair.wait_flowing();
     TcpReceiver receiver(pair.topology.m2(), kM2Address, 7703);
@@ -316,9 +323,16 @@ TEST_CASE("a TCP session between the masters survives a switchover", "[netns][ta
     REQUIRE(sender.connected());
     REQUIRE(sender.send(1u << 20));
 
-    REQUIRE(pair.m1->request_red_state("INACTIVE").empty());
-    REQUIRE(pair.m2.request_red_state("ACTIVE").empty());
-    REQUIRE(pair.m2.wait_for([](const StatusReply& s) { return s.tap_bridge().role() == "ACTIVE"; }, 5s));
+    // The zero-loss hand-off (ecpairctl switchover), once m2 is a hot standby.
+    std::string refused = "not tried";
+    for (const auto give_up = std::chrono::steady_clock::now() + 15s;
+         !refused.empty() && std::chrono::steady_clock::now() < give_up;) {
+        refused = pair.m1->switchover();
+        if (!refused.empty()) std::this_thread::sleep_for(100ms);
+    }
+    INFO(refused);
+    REQUIRE(refused.empty());
+    REQUIRE(pair.m2.wait_for([](const StatusReply& s) { return s.tap_bridge().role() == "ACTIVE"; }, 10s));
     REQUIRE(sender.send(1u << 20));
     sender.close();
     const auto got = receiver.wait();
@@ -336,7 +350,7 @@ TEST_CASE("a TCP session between the masters survives a switchover", "[netns][ta
 }
 
 TEST_CASE("with no ACTIVE master nothing flows and status says why", "[netns][tap_bridge]") {
-    BridgedPair pair("INACTIVE");
+    BridgedPair pair(true);  // both forced to standby: neither takes the bus
     const auto m1 = pair.m1->wait_for(
         [](const StatusReply& s) { return s.has_tap_bridge() && !s.tap_bridge().why_not().empty(); }, 10s);
     REQUIRE(m1);
@@ -349,8 +363,8 @@ TEST_CASE("with no ACTIVE master nothing flows and status says why", "[netns][ta
     CHECK(pair.ping(pair.topology.m1(), kM2Address, 2) != 0);
     CHECK(pair.m2.status().tap_bridge().rx_frames() == 0);
 
-    // One master becomes ACTIVE: the bridge flows.
-    REQUIRE(pair.m1->request_red_state("ACTIVE").empty());
+    // m1 is released: it finds no ACTIVE, takes the bus, and the bridge flows.
+    REQUIRE(pair.m1->force_standby(false).empty());
     pair.wait_flowing();
     CHECK(pair.ping(pair.topology.m1(), kM2Address, 3) == 0);
 }
@@ -419,14 +433,14 @@ TEST_CASE("garbled and truncated bridge datagrams from the bus are counted, neve
     CHECK(pair.ping(pair.topology.m1(), kM2Address, 3) == 0);
 }
 
-TEST_CASE("the bridge follows a failover and a restarted partner", "[netns][tap_bridge][redundancy]") {
+TEST_CASE("the bridge follows an automatic failover and a restarted partner", "[netns][tap_bridge][redundancy]") {
     BridgedPair pair;
     pair.wait_flowing();
     REQUIRE(pair.ping(pair.topology.m2(), kM1Address, 2) == 0);
-    // m1 goes away (stopped; its TAP goes with it). The operator makes m2
-    // ACTIVE (the supervisor will do this by itself, issue 8).
+    // m1 dies (SIGKILL; its TAP goes with it): m2's supervisor notices the
+    // silence and takes over by itself.
+    ::kill(pair.m1->pid(), SIGKILL);
     pair.m1.reset();
-    REQUIRE(pair.m2.request_red_state("ACTIVE").empty());
     const auto alone = pair.m2.wait_for(
         [](const StatusReply& s) { return s.tap_bridge().role() == "ACTIVE" && !s.tap_bridge().why_not().empty(); }, 10s);
     REQUIRE(alone);
