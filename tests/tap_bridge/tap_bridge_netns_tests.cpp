@@ -446,7 +446,20 @@ TEST_CASE("the bridge follows an automatic failover and a restarted partner", "[
     REQUIRE(alone);
     CHECK(alone->tap_bridge().why_not().find("no partner answers our polls") != std::string::npos);
     // m1 comes back as INACTIVE with a new session: the bridge flows again, the other way round.
+    std::filesystem::remove(pair.dir / "m1.sock");  // the killed daemon's, so that the new one is waited for
     pair.m1.emplace(pair.topology.m1(), member("m1", "INACTIVE", std::string(kM1Address), pair.dir));
+    // Its socket file appears at bind(), a moment before it listens: wait until it answers.
+    bool answers = false;
+    for (const auto give_up = std::chrono::steady_clock::now() + 10s;
+         !answers && pair.m1->running() && std::chrono::steady_clock::now() < give_up;) {
+        try {
+            pair.m1->status();
+            answers = true;
+        } catch (const std::runtime_error&) {
+            std::this_thread::sleep_for(20ms);
+        }
+    }
+    if (!answers) FAIL("m1 did not start again:\n" << pair.m1->log());
     pair.wait_flowing();
     CHECK(pair.ping(pair.topology.m2(), kM1Address, 3) == 0);
     CHECK(pair.ping(pair.topology.m1(), kM2Address, 3) == 0);
