@@ -74,10 +74,14 @@ void BridgeChannel::role_changed(bool active) {
                                                       : "INACTIVE (answers the ACTIVE's POLLs as it forwards them)");
 }
 
-std::size_t BridgeChannel::pack(BridgePayloadWriter& writer) {
+std::size_t BridgeChannel::pack(BridgePayloadWriter& writer, bool* head_too_large) {
     std::size_t bytes = 0;
     outbound_.pop_while([&](ConstBytes frame) {
-        if (!writer.add(frame)) return false;
+        if (!writer.add(frame)) {
+            // Seen under the queue's lock: this frame fits not even an empty datagram of this size.
+            if (head_too_large != nullptr) *head_too_large = writer.frame_count() == 0;
+            return false;
+        }
         bytes += frame.size();
         return true;
     });
@@ -223,10 +227,12 @@ void BridgeChannel::answer(wire::DatagramView datagram, const BridgeHeader& poll
         std::copy_n(it->data.begin(), it->size, data.begin());  // the other copy of a poll already answered
     } else {
         BridgePayloadWriter writer(data);
-        pack(writer);
-        if (writer.frame_count() == 0 && outbound_.depth() > 0) {
+        bool head_too_large = false;
+        pack(writer, &head_too_large);
+        if (head_too_large) {
             // The head frame does not fit even an empty poll of this size (the
             // partner polls with less room than our MTU): it would block the queue.
+            // While INACTIVE only holders of fill_mutex_ take from the queue: the head is still that frame.
             outbound_.drop_head();
             counters_.dropped_oversized.fetch_add(1, std::memory_order_relaxed);
             pack(writer);

@@ -118,7 +118,9 @@ private:
 
     // Sends one bridge datagram (data of `size` bytes in scratch_) as a frame of its own.
     void send_datagram(master::FrameSender& sender, std::uint16_t index, std::size_t size);
-    std::size_t pack(BridgePayloadWriter& writer);
+    // Packs queued frames while they fit; *head_too_large tells whether the
+    // head frame fits not even the empty writer.
+    std::size_t pack(BridgePayloadWriter& writer, bool* head_too_large = nullptr);
     void answer(wire::DatagramView datagram, const BridgeHeader& poll);
     // Delivers a DATA or ANSWER datagram of the partner once; false if it was a duplicate.
     bool deliver(const BridgeDatagram& datagram);
