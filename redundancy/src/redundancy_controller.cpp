@@ -24,6 +24,7 @@
 #include "ecpair/redundancy/cmf_inactive.hpp"
 #include "ecpair/wire/frame.hpp"
 #include "channel_sender.hpp"
+#include "mailbox_counter_mirror.hpp"
 #include "mirror.hpp"
 
 namespace ecpair::redundancy {
@@ -75,6 +76,7 @@ RedundancyController::RedundancyController(master::Master& master, const Redunda
       writer_(plan),
       mirror_(std::make_unique<Mirror>(plan, master.plan(), master.image().inputs().size(),
                                        master.image().outputs().size(), events, history_)),
+      mailbox_counters_(std::make_unique<MailboxCounterMirror>(master.eni())),
       forwarding_(master.link(master::LinkRole::Main), master.link(master::LinkRole::Red)),
       mirrored_(std::make_unique<MirroredCycle>()) {
     const auto& p = options_.parameters;
@@ -99,8 +101,10 @@ RedundancyController::RedundancyController(master::Master& master, const Redunda
         process_as_inactive(frame, pd_in_to_send_, status);
     });
     forwarding_.set_stored_callback([this](master::LinkRole arrived_on, ConstBytes frame, bool first_pass) {
-        if (first_pass) mirror_->on_first_pass(arrived_on, frame);
         if (channel_) channel_->forwarded(arrived_on, frame, first_pass);
+        if (!first_pass) return;
+        mirror_->on_first_pass(arrived_on, frame);
+        if (const auto view = wire::ConstFrameView::parse(frame)) mailbox_counters_->observe(*view);
     });
 
     const RedState initial = options_.start_active ? RedState::Active : RedState::Inactive;
@@ -199,6 +203,8 @@ CmfStandbyStatus RedundancyController::standby_status() const {
     s.epoch = standby_epoch_.load();
     return s;
 }
+
+std::vector<std::uint8_t> RedundancyController::partner_mailbox_counters() const { return mailbox_counters_->counters(); }
 
 std::optional<link::Clock::time_point> RedundancyController::phase_reference() const {
     if (state_.load() == RedState::Active) return std::nullopt;
