@@ -10,6 +10,7 @@
 #include <fmt/ostream.h>
 
 #include "ecpair/control/control_client.hpp"
+#include "tap_bridge_status.hpp"
 
 namespace ecpair::ctl {
 namespace {
@@ -129,6 +130,7 @@ void print_status(std::ostream& out, const control::StatusReply& s) {
                        r.dropped_non_ethercat(), r.dropped_damaged());
         }
     }
+    print_tap_bridge_status(out, s);
     if (s.loopback().cycles_checked() > 0) {
         fmt::print(out, "  loopback check: {} cycles, {} slave checks, {} mismatches\n", s.loopback().cycles_checked(),
                    s.loopback().slave_checks(), s.loopback().mismatches());

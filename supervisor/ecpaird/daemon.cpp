@@ -101,6 +101,7 @@ int Daemon::open() {
 
     operator_service_ = std::make_unique<OperatorService>(settings_, *master_, *state_machine_, *cycle_thread_, *demo_,
                                                           redundancy_.get(), supervisor_.get());
+    operator_service_->set_tap_bridge(tap_bridge_.get());
     control_server_ = std::make_unique<control::ControlServer>(
         io_, *operator_service_, control::SocketSettings{settings_.control_path, settings_.control_mode, settings_.control_group});
     if (auto opened = control_server_->open(); !opened) {
@@ -135,6 +136,7 @@ void Daemon::start_threads() {
     if (red_link_) add_receiver(*red_link_, master::LinkRole::Red);
 
     cycle_thread_->start();
+    if (tap_bridge_) tap_bridge_->start();
 
     event_thread_ = std::thread([this] { pump_events(); });
 }
@@ -146,6 +148,7 @@ void Daemon::stop_threads() {
     state_machine_.reset();  // cancels a running sequence (its requests fail when the cycle stops)
     if (cycle_thread_) cycle_thread_->stop();
     for (auto& r : receive_threads_) r->stop();
+    if (tap_bridge_) tap_bridge_->stop();
     if (event_thread_.joinable()) event_thread_.join();
 }
 
@@ -210,6 +213,15 @@ int Daemon::open_redundancy() {
     supervisor_ = std::make_unique<supervisor::Supervisor>(decisions, random_, events_);
     redundancy_->set_role_decider(supervisor_.get());
     topology_verifier_ = std::make_unique<redundancy::TopologyVerifier>(eni_, master_->bus(), events_);
+    if (settings_.tap) {
+        auto bridge = tap_bridge::TapBridge::open(*settings_.tap);
+        if (!bridge) {
+            log()->error("{}", bridge.error());
+            return kLinkFailure;
+        }
+        tap_bridge_ = std::move(*bridge);
+        redundancy_->set_acyclic_channel(&tap_bridge_->channel());
+    }
     return kOk;
 }
 

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include "ecpair/wire/al_status.hpp"
+#include "tap_bridge_status.hpp"
 
 namespace ecpair::daemon {
 namespace {
@@ -97,6 +98,7 @@ control::StatusReply OperatorService::status(const control::StatusRequest& reque
         out->set_dropped_damaged(r.forwarding.dropped_damaged);
         if (supervisor_) add_supervisor_status(r, *reply.mutable_supervisor());
     }
+    if (tap_bridge_) fill_tap_bridge_status(*tap_bridge_, *reply.mutable_tap_bridge());
     const auto loop = demo_.stats();
     auto* l = reply.mutable_loopback();
     l->set_cycles_checked(loop.cycles_checked);

@@ -10,6 +10,7 @@
 
 #include "ecpair/common/expected.hpp"
 #include "ecpair/eni/model.hpp"
+#include "ecpair/tap_bridge/tap_bridge.hpp"
 
 namespace ecpair::config {
 
@@ -50,6 +51,7 @@ struct DaemonSettings {
     int realtime_priority = 80;
     std::string log_level = "info";
     RedundancySettings redundancy;
+    std::optional<tap_bridge::TapBridgeOptions> tap;  // the TAP bridge, when configured
 };
 
 struct ConfigError {
