@@ -33,11 +33,7 @@
 #include <boost/program_options.hpp>
 
 #include "ecpair/sim/eni_generator.hpp"
-#include "ecpaird_process.hpp"
-#include "ecsim_process.hpp"
-#include "ring_topology.hpp"
-#include "segment_capture.hpp"
-#include "temp_dir.hpp"
+#include "supervised_pair.hpp"
 
 namespace po = boost::program_options;
 using namespace ecpair::test;
@@ -55,15 +51,6 @@ struct Options {
     std::uint32_t cycle_us = 1000;
     std::uint32_t comm_timeout_ms = 0;
 };
-
-bool is_active(const StatusReply& s) { return s.redundancy().red_state() == "ACTIVE"; }
-bool all_op(const StatusReply& s) {
-    return s.slaves_size() > 0 &&
-           std::all_of(s.slaves().begin(), s.slaves().end(), [](const auto& x) { return x.al_state() == "OP"; });
-}
-bool hot_standby(const StatusReply& s) {
-    return s.redundancy().red_state() == "INACTIVE" && s.redundancy().partner_seen() && s.master_state() == "OP";
-}
 
 double percentile(std::vector<double> v, double p) {
     if (v.empty()) return 0;
@@ -87,53 +74,35 @@ void print_stats(const char* what, const std::vector<double>& ms, double cycle_m
     std::printf("\n");
 }
 
+// A generated segment of options.slaves slaves (8 bytes in and out each).
+std::filesystem::path generated_eni(const Options& o, const std::filesystem::path& dir) {
+    ecpair::sim::GeneratedEniOptions eni;
+    eni.slaves = o.slaves;
+    eni.input_bytes = 8;
+    eni.output_bytes = 8;
+    eni.cycle_time_us = o.cycle_us;
+    const auto path = dir / "bench.xml";
+    std::ofstream(path) << ecpair::sim::generate_eni(eni);
+    return path;
+}
+
+PairSetup setup_of(const Options& o, const std::filesystem::path& eni) {
+    PairSetup setup;
+    setup.eni = eni;
+    setup.cycle_us = o.cycle_us;
+    setup.demo = "WALKING_BIT";
+    setup.log_level = "info";
+    if (o.comm_timeout_ms > 0) setup.redundancy = "comm_timeout_ms: " + std::to_string(o.comm_timeout_ms);
+    setup.extra_config = "link_guard { enabled: true }";
+    return setup;
+}
+
 class Bench {
 public:
-    explicit Bench(const Options& o) : options_(o), topology_(Controllers::Pair) {
-        ecpair::sim::GeneratedEniOptions eni;
-        eni.slaves = o.slaves;
-        eni.input_bytes = 8;
-        eni.output_bytes = 8;
-        eni.cycle_time_us = o.cycle_us;
-        eni_ = dir_ / "bench.xml";
-        std::ofstream(eni_) << ecpair::sim::generate_eni(eni);
-        ecsim_.emplace(topology_.sim(), EcsimSettings{eni_, "sim-main", std::string("sim-red"), dir_.path(), 70});
-        start(0);
-        start(1);
-        members_[0]->wait_ready();
-        members_[1]->wait_ready();
-    }
+    explicit Bench(const Options& o) : options_(o), pair_(setup_of(o, generated_eni(o, files_.path())), "ecpair-pair-bench") {}
 
-    EcpairdProcess& member(int i) { return *members_[static_cast<std::size_t>(i)]; }
-    const TestNamespace& ns(int i) const { return i == 0 ? topology_.m1() : topology_.m2(); }
-
-    void start(int i) {
-        EcpairdSettings s;
-        s.name = i == 0 ? "m1" : "m2";
-        s.main_if = s.name + "-main";
-        s.red_if = s.name + "-red";
-        s.eni = eni_;
-        s.dir = dir_.path();
-        s.demo = "WALKING_BIT";
-        s.wait_until_ready = false;
-        std::string redundancy = "enabled: true master_pd_out_size: 8 master_pd_in_size: 8";
-        if (options_.comm_timeout_ms > 0) redundancy += " comm_timeout_ms: " + std::to_string(options_.comm_timeout_ms);
-        s.extra_config = "cycle_time_us: " + std::to_string(options_.cycle_us) + "\nredundancy { " + redundancy +
-                         " }\nlink_guard { enabled: true }\nlog_level: \"info\"\n";
-        members_[static_cast<std::size_t>(i)].emplace(ns(i), s);
-    }
-
-    // One member ACTIVE in OP, the other its hot standby: the ACTIVE's index.
-    int settle() {
-        for (int tries = 0; tries < 600; ++tries) {
-            const auto a = member(0).status();
-            const auto b = member(1).status();
-            if (is_active(a) && all_op(a) && hot_standby(b)) return 0;
-            if (is_active(b) && all_op(b) && hot_standby(a)) return 1;
-            std::this_thread::sleep_for(50ms);
-        }
-        throw std::runtime_error("the pair did not settle\nm1:\n" + member(0).log() + "\nm2:\n" + member(1).log());
-    }
+    EcpairdProcess& member(int i) { return pair_.member(i); }
+    int settle() { return pair_.settled(); }
 
     int failover() {
         std::vector<double> verified_ms;
@@ -143,19 +112,17 @@ public:
             EventRecorder events(member(standby).socket());
             std::this_thread::sleep_for(300ms);
             const auto killed_at = std::chrono::system_clock::now();
-            member(active).signal(SIGKILL);  // its link guard takes its links down
+            pair_.kill(active);  // its link guard takes its links down
             const auto verified = events.wait_for("topology-verified", "confirms", 10s);
             if (verified) {
                 const auto at = std::chrono::system_clock::time_point(std::chrono::milliseconds(verified->unix_time_ms()));
                 verified_ms.push_back(std::chrono::duration<double, std::milli>(at - killed_at).count());
             }
-            if (!member(standby).wait_for([](const StatusReply& s) { return is_active(s) && all_op(s); }, 10s)) {
+            if (!member(standby).wait_for([](const StatusReply& s) { return is_active(s) && all_slaves_op(s); }, 10s)) {
                 std::fprintf(stderr, "run %d: no takeover\n", run);
                 return 1;
             }
-            members_[static_cast<std::size_t>(active)].reset();
-            start(active);  // comes back INACTIVE; its links come up when it starts
-            member(active).wait_ready();
+            pair_.restart(active);  // comes back INACTIVE; its links come up when it starts
         }
         settle();
         const auto capture = finish();
@@ -234,19 +201,11 @@ public:
 
 private:
     double cycle_ms() const { return static_cast<double>(options_.cycle_us) / 1000.0; }
-    SegmentCapture finish() {
-        ecsim_->stop();
-        auto capture = read_segment_capture(ecsim_->pcap().string());
-        if (!capture) throw std::runtime_error(capture.error());
-        return *capture;
-    }
+    SegmentCapture finish() { return pair_.capture(); }
 
     Options options_;
-    TempDir dir_{"ecpair-pair-bench"};
-    RingTopology topology_;
-    std::filesystem::path eni_;
-    std::optional<EcsimProcess> ecsim_;
-    std::array<std::optional<EcpairdProcess>, 2> members_;
+    TempDir files_{"ecpair-pair-bench-eni"};
+    SupervisedPair pair_;
 };
 
 }  // namespace

@@ -218,6 +218,7 @@ std::optional<link::Clock::time_point> RedundancyController::phase_reference() c
 
 void RedundancyController::apply_mirror(master::ProcessImage& image) {
     if (!mirror_->take_newer(*mirrored_)) return;
+    left_bus_.reset();  // another master drives the bus now: its mirror is what counts
     const auto& p = options_.parameters;
     if (p.update_slave_pd_in) {
         std::copy_n(mirrored_->inputs.begin(), std::min(mirrored_->inputs.size(), image.inputs().size()),
@@ -236,8 +237,17 @@ void RedundancyController::change_role(RedState to, master::ProcessImage& image)
     RoleChange change{from, to, false, master_.state()};
     if (to == RedState::Active) {
         apply_mirror(image);  // the newest the partner sent, if any
-        change.hot = mirror_fresh();
-        change.master_state = change.hot ? mirrored_->master_state : eni::SlaveState::Init;
+        const bool from_mirror = mirror_fresh();
+        // Back on the bus shortly after leaving it (a collision's backoff),
+        // with nobody mirrored since: the slaves are still where this master
+        // left them, and so is its image.
+        const bool own = !from_mirror && left_bus_ &&
+                         std::chrono::steady_clock::now() - left_bus_->at <= options_.mirror_fresh;
+        change.hot = from_mirror || own;
+        change.master_state = from_mirror ? mirrored_->master_state
+                              : own       ? left_bus_->master_state
+                                          : eni::SlaveState::Init;
+        left_bus_.reset();
         // Hot: keep the slaves where the partner had them and send the mirrored
         // outputs in this very cycle. Cold: start over from INIT.
         master_.request_state(change.master_state);
@@ -247,11 +257,15 @@ void RedundancyController::change_role(RedState to, master::ProcessImage& image)
         partner_last_answer_.reset();
         partner_status_.reset();
         state_.store(RedState::Active, std::memory_order_release);
-        log()->warn("now ACTIVE: {} takeover in {} (mirrored cycle {})", change.hot ? "hot" : "cold",
-                    eni::to_string(change.master_state), mirrored_->cycle);
+        log()->warn("now ACTIVE: {} takeover in {} ({})", change.hot ? "hot" : "cold",
+                    eni::to_string(change.master_state),
+                    from_mirror ? fmt::format("from the mirror of the partner's cycle {}", mirrored_->cycle)
+                    : own       ? std::string("back where this master left the slaves")
+                                : std::string("no fresh mirror"));
         raise(master::EventKind::RedStateChanged, as_number(from), as_number(to));
         raise(master::EventKind::Takeover, change.hot ? 1 : 0, static_cast<std::uint32_t>(change.master_state));
     } else {
+        left_bus_ = LeftBus{std::chrono::steady_clock::now(), master_.state()};
         master_.set_sending(false);
         master_.acyclic().refuse(bus::BusErrc::MasterRedStateInactive);
         mirror_->reset();

@@ -77,3 +77,18 @@ TEST_CASE("responses stay on one line", "[control]") {
     CHECK(usage.find('\n') == std::string::npos);
     CHECK_THAT(usage, Catch::Contains("set-alias K VALUE") && Catch::Contains("insert-unknown K"));
 }
+
+TEST_CASE("impair names a cable, a loss and a duplication share and a delay", "[control]") {
+    const auto request = parsed("impair red 10 2 500");
+    CHECK(request.command == ControlCommand::Impair);
+    CHECK(request.red_side);
+    CHECK(request.loss_percent == 10);
+    CHECK(request.duplicate_percent == 2);
+    CHECK(request.delay_us == 500);
+    CHECK_FALSE(parsed("impair main 0 0 0").red_side);
+    CHECK(refusal("impair left 1 1 1") == "impair: SIDE must be main or red, got 'left'");
+    CHECK(refusal("impair main 101 0 0") == "impair: LOSS% and DUP% must be 0..100, got '101' '0'");
+    CHECK(refusal("impair main 0 0 200000") == "impair: DELAY_US must be 0..100000, got '200000'");
+    CHECK(refusal("impair main 1 1") ==
+          "impair takes 4 arguments, got 3: impair main|red LOSS% DUP% DELAY_US");
+}

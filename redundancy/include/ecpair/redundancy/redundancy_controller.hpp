@@ -181,6 +181,11 @@ private:
     std::uint64_t followed_cycle_ = 0;  // the mirrored cycle the master's count last followed
     std::uint32_t epoch_ = 0;
     std::optional<std::uint64_t> announced_handoff_;
+    struct LeftBus {
+        SteadyTime at;
+        eni::SlaveState master_state;
+    };
+    std::optional<LeftBus> left_bus_;  // when this master last stopped being ACTIVE, and where it left the slaves
     std::uint64_t partner_answers_ = 0;
     std::optional<SteadyTime> partner_last_answer_;
     std::optional<CmfStandbyStatus> partner_status_;
