@@ -127,6 +127,19 @@ Expected<DaemonSettings, ConfigError> parse_daemon_settings(const std::string& t
         s.control_mode = proto.control().mode();
     }
     s.control_group = proto.control().group();
+    if (proto.control().request_timeout_ms() != 0) {
+        if (proto.control().request_timeout_ms() < 100 || proto.control().request_timeout_ms() > 600'000) {
+            return fail("control.request_timeout_ms",
+                        fmt::format("must be 100..600000 ms (got {})", proto.control().request_timeout_ms()));
+        }
+        s.control_request_timeout = std::chrono::milliseconds(proto.control().request_timeout_ms());
+    }
+    if (proto.control().max_clients() != 0) {
+        if (proto.control().max_clients() > 65'536) {
+            return fail("control.max_clients", fmt::format("must be 1..65536 (got {})", proto.control().max_clients()));
+        }
+        s.control_max_clients = proto.control().max_clients();
+    }
     if (proto.has_max_acyclic_frames_per_cycle()) {
         if (proto.max_acyclic_frames_per_cycle() < 1 || proto.max_acyclic_frames_per_cycle() > 16) {
             return fail("max_acyclic_frames_per_cycle",
@@ -169,6 +182,15 @@ Expected<DaemonSettings, ConfigError> parse_daemon_settings(const std::string& t
         out.master_pd_in_size = r.master_pd_in_size();
         if (r.has_update_slave_pd_in()) out.update_slave_pd_in = r.update_slave_pd_in();
         if (r.has_update_slave_pd_out()) out.update_slave_pd_out = r.update_slave_pd_out();
+    }
+    // The link guard protects the partner's ring: on by default in a pair.
+    s.link_guard.enabled = proto.link_guard().has_enabled() ? proto.link_guard().enabled() : s.redundancy.enabled;
+    if (proto.link_guard().hang_timeout_ms() != 0) {
+        if (proto.link_guard().hang_timeout_ms() < 10 || proto.link_guard().hang_timeout_ms() > 60'000) {
+            return fail("link_guard.hang_timeout_ms",
+                        fmt::format("must be 10..60000 ms (got {})", proto.link_guard().hang_timeout_ms()));
+        }
+        s.link_guard.hang_timeout = std::chrono::milliseconds(proto.link_guard().hang_timeout_ms());
     }
     return s;
 }

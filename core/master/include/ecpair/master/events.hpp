@@ -35,6 +35,11 @@ enum class EventKind : std::uint8_t {
     Takeover,             // a = 1 hot / 0 cold, b = the master state taken over
     HandOff,
     TopologyVerified,     // a = 1 if the background scan matches the mirrored image
+    // ops: the link guard (supervisor/linkguard). b = links (bit 0 MAIN, bit 1 RED), d = errno of a failure
+    LinkGuardLinksDown,   // a = reason (1 cycle stood still, 3 ecpaird stopping), c = ms without a heartbeat
+    LinkGuardResumed,     // c = ms the cycle stood still; the links stay down until ecpaird asks
+    LinkGuardLinksUp,     // a = why (0 ecpaird started, 1 the daemon may drive its links again), c = ms they were down
+    LinkGuardGone,        // the guard process ended while ecpaird runs: a = its exit status
 };
 
 // What differs from a redundant partner (EventKind::PartnerMismatch, a).
