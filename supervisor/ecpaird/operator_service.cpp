@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "ecpair/wire/al_status.hpp"
+#include "link_guard_status.hpp"
 
 namespace ecpair::daemon {
 namespace {
@@ -99,6 +100,7 @@ control::StatusReply OperatorService::status(const control::StatusRequest& reque
     l->set_cycles_checked(loop.cycles_checked);
     l->set_slave_checks(loop.slaves_checked);
     l->set_mismatches(loop.mismatches);
+    fill_link_guard_status(link_guard_, *reply.mutable_link_guard());
     return reply;
 }
 

@@ -8,6 +8,7 @@
 #include "demo_application.hpp"
 #include "ecpair/config/daemon_settings.hpp"
 #include "ecpair/control/control_server.hpp"
+#include "ecpair/linkguard/link_guard.hpp"
 #include "ecpair/master/cycle_thread.hpp"
 #include "ecpair/master/master.hpp"
 #include "ecpair/redundancy/redundancy_controller.hpp"
@@ -31,6 +32,7 @@ public:
     std::optional<std::string> set_master_state(const control::SetMasterStateRequest& request) override;
     std::optional<std::string> set_red_state(const control::SetRedStateRequest& request) override;
     control::ImageHistoryReply image_history(const control::ImageHistoryRequest& request) override;
+    void set_link_guard(const linkguard::LinkGuard* guard) { link_guard_ = guard; }
 
 private:
     const config::DaemonSettings& settings_;
@@ -39,6 +41,7 @@ private:
     const master::CycleThread& cycle_thread_;
     const DemoApplication& demo_;
     redundancy::RedundancyController* redundancy_;  // null outside a pair
+    const linkguard::LinkGuard* link_guard_ = nullptr;  // null when off
 };
 
 // The event as the operator API carries it.

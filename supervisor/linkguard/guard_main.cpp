@@ -25,6 +25,7 @@
 #include "ecpair/common/log.hpp"
 #include "ecpair/common/realtime.hpp"
 #include "ecpair/config/daemon_settings.hpp"
+#include "ecpair/systemd/journal.hpp"
 #include "guard_runner.hpp"
 
 namespace {
@@ -99,6 +100,7 @@ int main(int argc, char** argv) {
                   << options;
         return kOk;
     }
+    ecpair::systemd::log_to_journal_if_connected("ecpair-linkguard");
     if (!ecpair::set_log_level(log_level)) {
         std::cerr << "ecpair-linkguard: --log-level: '" << log_level << "' is not a level\n";
         return kUsage;

@@ -9,6 +9,7 @@
 #include <poll.h>
 #include <signal.h>
 #include <spawn.h>
+#include <sys/resource.h>
 #include <sys/socket.h>
 #include <sys/syscall.h>
 #include <sys/wait.h>
@@ -33,10 +34,27 @@ namespace {
 std::shared_ptr<spdlog::logger> log() { return logger("linkguard"); }
 
 constexpr int kGuardFd = 3;
+constexpr rlim_t kHighestGuardFd = 65535;
 constexpr std::chrono::seconds kStartPatience{5};
 constexpr std::chrono::seconds kStopPatience{2};
 
 std::string errno_text(int error) { return std::strerror(error); }
+
+// When a process is killed the kernel closes its descriptors in ascending
+// order but releases the files in reverse (the exiting task's work list is
+// last in, first out). Closing a packet socket (each PcapLink) waits for an
+// RCU grace period, tens of milliseconds for the two links: the guard's
+// socket, released first from the top of the table, reports the death at
+// once instead of after them. So it lives at the highest descriptor allowed.
+int move_to_top(int fd) {
+    rlimit limit{};
+    if (::getrlimit(RLIMIT_NOFILE, &limit) != 0 || limit.rlim_cur < 64) return fd;
+    const auto top = static_cast<int>(std::min<rlim_t>(limit.rlim_cur - 1, kHighestGuardFd));
+    const int moved = ::fcntl(fd, F_DUPFD_CLOEXEC, top);
+    if (moved < 0) return fd;
+    ::close(fd);
+    return moved;
+}
 
 // Waits up to `patience` for one message; nullopt on timeout or end-of-file.
 std::optional<GuardMessage> receive_blocking(int socket, std::chrono::milliseconds patience) {
@@ -75,7 +93,7 @@ Expected<std::unique_ptr<LinkGuard>, std::string> LinkGuard::start(boost::asio::
     if (::socketpair(AF_UNIX, SOCK_SEQPACKET | SOCK_CLOEXEC, 0, pair) != 0) {
         return unexpected(fmt::format("link guard: socketpair: {}", errno_text(errno)));
     }
-    const int ours = pair[0];
+    const int ours = move_to_top(pair[0]);
     int theirs = pair[1];
     // dup2(fd, 3) would keep close-on-exec if theirs were 3 already: move it out of the way.
     if (theirs == kGuardFd) {
@@ -165,7 +183,8 @@ bool LinkGuard::send(const GuardMessage& message) {
 }
 
 void LinkGuard::watch_reports() {
-    if (!reports_) reports_.emplace(io_, ::fcntl(socket_, F_DUPFD_CLOEXEC, 0));
+    // Asio waits on the socket itself (a second descriptor would keep it open at exit).
+    if (!reports_) reports_.emplace(io_, socket_);
     reports_->async_wait(boost::asio::posix::stream_descriptor::wait_read, [this](const boost::system::error_code& ec) {
         if (ec || stopped_) return;
         for (;;) {
@@ -291,7 +310,8 @@ void LinkGuard::shutdown() {
     if (reports_) {
         boost::system::error_code ignored;
         reports_->cancel(ignored);
-        reports_->close(ignored);
+        (void)reports_->release();  // the descriptor stays ours, closed below
+        reports_.reset();
     }
     if (running_) {
         GuardMessage stop;
