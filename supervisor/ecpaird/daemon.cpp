@@ -105,7 +105,8 @@ int Daemon::open() {
         link_guard_policy_ = std::make_unique<LinkGuardResumePolicy>(io_, *link_guard_, *master_, redundancy_.get());
     }
     control_server_ = std::make_unique<control::ControlServer>(
-        io_, *operator_service_, control::SocketSettings{settings_.control_path, settings_.control_mode, settings_.control_group});
+        io_, *operator_service_, control::SocketSettings{settings_.control_path, settings_.control_mode, settings_.control_group,
+                                                   settings_.control_request_timeout, settings_.control_max_clients});
     if (auto opened = control_server_->open(); !opened) {
         log()->error("{}", opened.error());
         return kBadConfig;
