@@ -8,6 +8,7 @@
 #include <signal.h>
 
 #include <algorithm>
+#include <fstream>
 #include <iostream>
 
 #include <catch2/catch.hpp>
@@ -260,4 +261,28 @@ TEST_CASE("link guard: after a hang an ACTIVE pair member becomes INACTIVE befor
     REQUIRE(inactive < kinds.size());
     CHECK(inactive < up);
     CHECK(m1_events.wait_for("red-state-changed", "ACTIVE -> INACTIVE", 0ms));
+}
+
+TEST_CASE("link guard: systemd's ExecStopPost line takes the configured links down, unless the guard is off",
+          "[netns][link_guard]") {
+    TempDir dir{"ecpair-guard"};
+    RingTopology topology(Controllers::Single);
+    const MasterLinks links{topology};
+    const auto guard = (std::filesystem::path(ecpaird_binary()).parent_path() / "ecpair-linkguard").string();
+    auto config = [&](const std::string& name, const std::string& link_guard) {
+        const auto path = dir / (name + ".textproto");
+        std::ofstream(path) << "name: \"m1\"\ninterfaces { main: \"m1-main\" red: \"m1-red\" }\neni_path: \"" << kEni.string()
+                            << "\"\n" << link_guard << "\n";
+        return path.string();
+    };
+    const auto off = config("off", "link_guard { enabled: false }");
+    CHECK(topology.m1().exec(guard + " --config " + off + " --down") == 0);
+    CHECK(links.all_up());
+
+    const auto on = config("on", "link_guard { enabled: true }");
+    CHECK(topology.m1().exec(guard + " --config " + on + " --down") == 0);
+    CHECK(time_until([&] { return links.all_down(); }));
+
+    const auto broken = config("broken", "link_guard { hang_timeout_ms: 1 }");
+    CHECK(topology.m1().exec(guard + " --config " + broken + " --down 2>/dev/null") == 2);
 }

@@ -28,6 +28,7 @@ struct EcpairdSettings {
     bool split_lrw = true;
     std::string demo = "LOOPBACK_CHECK";
     std::string extra_config;  // more textproto lines
+    std::string control_extra;  // more fields of `control { ... }` (the path is set already)
 };
 
 class EcpairdProcess {
