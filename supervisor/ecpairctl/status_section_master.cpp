@@ -15,11 +15,7 @@ std::string up_down(bool up) { return up ? "up" : "DOWN"; }
 
 }  // namespace
 
-bool forced_standby(const control::StatusReply&) {
-    // PLACEHOLDER until the Supervisor reports forced standby in StatusReply:
-    // nothing can force standby before it exists, so this is true today.
-    return false;
-}
+bool forced_standby(const control::StatusReply& s) { return s.supervisor().forced_standby(); }
 
 void summary_table(std::ostream& out, const control::StatusReply& s) {
     fmt::print(out, "{}: master {} (target {}), cycle {} µs\n", s.name(), s.master_state(), s.target_state(),

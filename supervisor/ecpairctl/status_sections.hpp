@@ -46,8 +46,7 @@ void operator_socket_json(JsonWriter& json, const control::StatusReply& s);
 void slaves_table(std::ostream& out, const control::StatusReply& s);
 void slaves_json(JsonWriter& json, const control::StatusReply& s);
 
-// Whether the member is in forced standby. PLACEHOLDER: always false until
-// the Supervisor's StatusReply field exists (the lead replaces the body).
+// Whether the member is in forced standby (the Supervisor's status).
 bool forced_standby(const control::StatusReply& s);
 
 }  // namespace ecpair::ctl

@@ -27,6 +27,8 @@
 #include "ecpair/redundancy/topology_verifier.hpp"
 #include "ecpair/sequencer/master_state_machine.hpp"
 #include "ecpair/sequencer/slave_monitor.hpp"
+#include "ecpair/arbitration/random_source.hpp"
+#include "ecpair/supervisor/supervisor.hpp"
 #include "ecpair/systemd/service_notifier.hpp"
 #include "link_guard_resume_policy.hpp"
 #include "operator_service.hpp"
@@ -57,6 +59,7 @@ private:
     int open_links();
     int open_redundancy();
     int open_link_guard();          // daemon_ops.cpp
+    std::unique_ptr<LinkGuardResumePolicy> make_link_guard_policy();  // daemon_ops.cpp
     std::string service_status() const;  // daemon_ops.cpp: one line for systemd
     void on_role_change(const redundancy::RoleChange& change);
     void on_sequence_done(const sequencer::SequenceResult& result);
@@ -73,6 +76,8 @@ private:
     std::unique_ptr<sequencer::MasterStateMachine> state_machine_;
     std::unique_ptr<sequencer::SlaveMonitor> slave_monitor_;
     std::unique_ptr<redundancy::RedundancyController> redundancy_;  // only in a redundant pair
+    arbitration::SystemRandom random_;
+    std::unique_ptr<supervisor::Supervisor> supervisor_;            // decides the pair member's role
     std::unique_ptr<redundancy::TopologyVerifier> topology_verifier_;
     std::unique_ptr<master::CycleThread> cycle_thread_;
     std::vector<std::unique_ptr<master::ReceiveThread>> receive_threads_;

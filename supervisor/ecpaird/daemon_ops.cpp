@@ -35,6 +35,15 @@ int Daemon::open_link_guard() {
     return kOk;
 }
 
+std::unique_ptr<LinkGuardResumePolicy> Daemon::make_link_guard_policy() {
+    std::optional<PairRole> pair;
+    if (redundancy_ && supervisor_) {
+        pair = PairRole{[this] { return redundancy_->state() == redundancy::RedState::Active; },
+                        [this] { supervisor_->request_role(redundancy::RedState::Inactive); }};
+    }
+    return std::make_unique<LinkGuardResumePolicy>(io_, *link_guard_, *master_, std::move(pair));
+}
+
 std::string Daemon::service_status() const {
     std::string role = redundancy_ ? fmt::format("{}, ", redundancy::to_string(redundancy_->state())) : std::string();
     if (link_guard_ && link_guard_->links_down()) role += "links down by the link guard, ";

@@ -10,8 +10,8 @@ std::shared_ptr<spdlog::logger> log() { return logger("ecpaird"); }
 }  // namespace
 
 LinkGuardResumePolicy::LinkGuardResumePolicy(boost::asio::io_context& io, linkguard::LinkGuard& guard,
-                                             const master::Master& master, redundancy::RedundancyController* redundancy)
-    : guard_(guard), master_(master), redundancy_(redundancy), timer_(io) {
+                                             const master::Master& master, std::optional<PairRole> pair)
+    : guard_(guard), master_(master), pair_(std::move(pair)), timer_(io) {
     guard_.set_on_links_down([this](const linkguard::LinksDownReport& report) { on_links_down(report); });
 }
 
@@ -20,7 +20,7 @@ void LinkGuardResumePolicy::on_links_down(const linkguard::LinksDownReport& repo
     inactive_requested_ = false;
     log()->warn("the link guard took the links down after the cycle stood still for {} ms (last heartbeat cycle {}); "
                 "they come back once the cycle runs{}",
-                report.silence.count(), report.last_cycle, redundancy_ ? " and this member is INACTIVE" : "");
+                report.silence.count(), report.last_cycle, pair_ ? " and this member is INACTIVE" : "");
     check();
 }
 
@@ -28,14 +28,13 @@ void LinkGuardResumePolicy::on_links_down(const linkguard::LinksDownReport& repo
 void LinkGuardResumePolicy::check() {
     if (!guard_.links_down()) return;
     const bool cycle_runs = master_.cycle() > cycle_at_report_;
-    if (cycle_runs && redundancy_ && redundancy_->state() == redundancy::RedState::Active && !inactive_requested_) {
+    if (cycle_runs && pair_ && pair_->is_active() && !inactive_requested_) {
         log()->warn("links down by the link guard while ACTIVE: becoming INACTIVE before they come up again");
-        redundancy_->request(redundancy::RedState::Inactive);
+        pair_->step_down();
         inactive_requested_ = true;
     }
-    if (cycle_runs && (!redundancy_ || redundancy_->state() == redundancy::RedState::Inactive)) {
-        log()->info("the cycle runs{}: asking the link guard to bring the links up",
-                    redundancy_ ? " and this member is INACTIVE" : "");
+    if (cycle_runs && (!pair_ || !pair_->is_active())) {
+        log()->info("the cycle runs{}: asking the link guard to bring the links up", pair_ ? " and this member is INACTIVE" : "");
         guard_.bring_links_up();
         return;
     }

@@ -33,6 +33,8 @@ public:
     std::optional<std::string> set_master_state(const SetMasterStateRequest&) override { return std::nullopt; }
     std::optional<std::string> set_red_state(const SetRedStateRequest&) override { return "not a pair"; }
     ImageHistoryReply image_history(const ImageHistoryRequest&) override { return {}; }
+    std::optional<std::string> switchover(const SwitchoverRequest&) override { return "not a pair"; }
+    std::optional<std::string> force_standby(const ForceStandbyRequest&) override { return "not a pair"; }
 
     StatusReply reply;  // what status() answers; set it before the server runs
 };

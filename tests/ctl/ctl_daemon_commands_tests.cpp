@@ -126,6 +126,20 @@ TEST_CASE("ecpairctl status --json: one object with the keys scripts read, parse
     CHECK(field(slaves.values(1).struct_value(), "station_address").number_value() == 1002);
 }
 
+TEST_CASE("ecpairctl status: forced standby comes from the supervisor's status", "[ctl]") {
+    const auto active = member("m1", "ACTIVE", true);
+    auto forced = member("m2", "INACTIVE", true);
+    forced.mutable_supervisor()->set_forced_standby(true);
+    ServerFixture fa({}, &active);
+    ServerFixture fb({}, &forced);
+    const auto json = parse_json(run(run_status_command, {"--socket", fb.path, "--json"}).out);
+    CHECK(field(json, "forced_standby").bool_value());
+    CHECK(run(run_status_command, {"--socket", fb.path}).out.find("  redundancy: INACTIVE, partner seen, mirrored cycle 123450, FORCED STANDBY\n") !=
+          std::string::npos);
+    CHECK(run(run_status_command, {"--socket", fa.path, "--socket", fb.path}).out.find(
+              "verdict: m1 ACTIVE; m2 INACTIVE, forced standby\n") != std::string::npos);
+}
+
 TEST_CASE("ecpairctl status --json: a single master has no red_state", "[ctl]") {
     StatusReply reply;
     reply.set_name("solo");

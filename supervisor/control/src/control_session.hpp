@@ -10,6 +10,7 @@
 #include <array>
 #include <deque>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "ecpair/control/control_server.hpp"
@@ -30,6 +31,7 @@ public:
 private:
     void read();
     void handle(const Request& request);
+    static void answer(Response& response, const std::optional<std::string>& error);
     void reject(const std::string& why);
     void write();
     void arm_request_timer();
