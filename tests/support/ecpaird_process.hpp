@@ -40,7 +40,6 @@ public:
     std::string log() const { return process_->log(); }
     bool running() { return process_->running(); }
     int stop() { return process_->stop(); }
-    pid_t pid() const { return process_->pid(); }
     std::optional<int> wait_for_exit(std::chrono::milliseconds timeout) { return process_->wait_for_exit(timeout); }
 
     // Throws std::runtime_error when the daemon does not answer.
