@@ -9,7 +9,7 @@ packages=(
   libpcap-dev libtinyxml2-dev libspdlog-dev libfmt-dev libsystemd-dev
   catch2 libprotobuf-dev protobuf-compiler
   libbenchmark-dev
-  iproute2 tshark procps
+  iproute2 tshark procps iputils-ping
 )
 
 if [ "$(id -u)" -ne 0 ]; then

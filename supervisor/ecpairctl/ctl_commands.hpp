@@ -12,6 +12,9 @@ int run_watch_command(const CommandArgs& args, std::ostream& out, std::ostream& 
 int run_events_command(const CommandArgs& args, std::ostream& out, std::ostream& err);      // events_command.cpp
 int run_state_command(const CommandArgs& args, std::ostream& out, std::ostream& err);       // state_commands.cpp
 int run_red_state_command(const CommandArgs& args, std::ostream& out, std::ostream& err);   // state_commands.cpp
+int run_switchover_command(const CommandArgs& args, std::ostream& out, std::ostream& err);       // pair_commands.cpp
+int run_force_standby_command(const CommandArgs& args, std::ostream& out, std::ostream& err);    // pair_commands.cpp
+int run_unforce_standby_command(const CommandArgs& args, std::ostream& out, std::ostream& err);  // pair_commands.cpp
 int run_compare_command(const CommandArgs& args, std::ostream& out, std::ostream& err);     // compare_command.cpp
 
 }  // namespace ecpair::ctl

@@ -2,6 +2,8 @@
 
 #include <array>
 
+#include "tap_bridge_status.hpp"
+
 namespace ecpair::ctl {
 
 std::span<const StatusSection> status_sections() {
@@ -10,7 +12,9 @@ std::span<const StatusSection> status_sections() {
         StatusSection{"links", links_table, links_json},
         StatusSection{"cycles", cycles_table, cycles_json},
         StatusSection{"redundancy", redundancy_table, redundancy_json},
+        StatusSection{"supervisor", supervisor_table, supervisor_json},
         StatusSection{"link_guard", link_guard_table, link_guard_json},
+        StatusSection{"tap_bridge", print_tap_bridge_status, write_tap_bridge_json},
         StatusSection{"loopback", loopback_table, loopback_json},
         StatusSection{"operator_socket", operator_socket_table, operator_socket_json},
         StatusSection{"slaves", slaves_table, slaves_json},

@@ -37,6 +37,8 @@ void cycles_table(std::ostream& out, const control::StatusReply& s);
 void cycles_json(JsonWriter& json, const control::StatusReply& s);
 void redundancy_table(std::ostream& out, const control::StatusReply& s);
 void redundancy_json(JsonWriter& json, const control::StatusReply& s);
+void supervisor_table(std::ostream& out, const control::StatusReply& s);
+void supervisor_json(JsonWriter& json, const control::StatusReply& s);
 void link_guard_table(std::ostream& out, const control::StatusReply& s);
 void link_guard_json(JsonWriter& json, const control::StatusReply& s);
 void loopback_table(std::ostream& out, const control::StatusReply& s);

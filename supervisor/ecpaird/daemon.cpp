@@ -102,6 +102,7 @@ int Daemon::open() {
 
     operator_service_ = std::make_unique<OperatorService>(settings_, *master_, *state_machine_, *cycle_thread_, *demo_,
                                                           redundancy_.get(), supervisor_.get());
+    operator_service_->set_tap_bridge(tap_bridge_.get());
     operator_service_->set_link_guard(link_guard_.get());
     if (link_guard_) link_guard_policy_ = make_link_guard_policy();
     control_server_ = std::make_unique<control::ControlServer>(
@@ -139,6 +140,7 @@ void Daemon::start_threads() {
     if (red_link_) add_receiver(*red_link_, master::LinkRole::Red);
 
     cycle_thread_->start();
+    if (tap_bridge_) tap_bridge_->start();
 
     event_thread_ = std::thread([this] { pump_events(); });
 }
@@ -150,6 +152,7 @@ void Daemon::stop_threads() {
     state_machine_.reset();  // cancels a running sequence (its requests fail when the cycle stops)
     if (cycle_thread_) cycle_thread_->stop();
     for (auto& r : receive_threads_) r->stop();
+    if (tap_bridge_) tap_bridge_->stop();
     if (event_thread_.joinable()) event_thread_.join();
 }
 
@@ -214,6 +217,15 @@ int Daemon::open_redundancy() {
     supervisor_ = std::make_unique<supervisor::Supervisor>(decisions, random_, events_);
     redundancy_->set_role_decider(supervisor_.get());
     topology_verifier_ = std::make_unique<redundancy::TopologyVerifier>(eni_, master_->bus(), events_);
+    if (settings_.tap) {
+        auto bridge = tap_bridge::TapBridge::open(*settings_.tap);
+        if (!bridge) {
+            log()->error("{}", bridge.error());
+            return kLinkFailure;
+        }
+        tap_bridge_ = std::move(*bridge);
+        redundancy_->set_acyclic_channel(&tap_bridge_->channel());
+    }
     return kOk;
 }
 
@@ -250,11 +262,17 @@ void Daemon::on_sequence_done(const sequencer::SequenceResult& result) {
 void Daemon::on_role_change(const redundancy::RoleChange& change) {
     boost::asio::post(io_, [this, change] {
         if (change.to == redundancy::RedState::Inactive) return;  // sequences stop on their own (bus refused)
+        const auto target = *sequencer::to_master_state(settings_.target_state);
+        // Mailbox messages go on from where the partner's counters stopped.
+        state_machine_->continue_mailbox_counters(redundancy_->partner_mailbox_counters());
         if (change.hot) {
-            if (const auto state = sequencer::to_master_state(change.master_state)) state_machine_->adopt(*state);
+            const auto state = sequencer::to_master_state(change.master_state);
+            if (state) state_machine_->adopt(*state);
             topology_verifier_->verify(master_->slaves().snapshot());
+            // Taken over during a transition (start-up, a state change): finish it here.
+            if (state != target) state_machine_->request(target);
         } else {
-            state_machine_->request(*sequencer::to_master_state(settings_.target_state));
+            state_machine_->request(target);
         }
     });
 }

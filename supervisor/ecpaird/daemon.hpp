@@ -29,6 +29,7 @@
 #include "ecpair/sequencer/slave_monitor.hpp"
 #include "ecpair/arbitration/random_source.hpp"
 #include "ecpair/supervisor/supervisor.hpp"
+#include "ecpair/tap_bridge/tap_bridge.hpp"
 #include "ecpair/systemd/service_notifier.hpp"
 #include "link_guard_resume_policy.hpp"
 #include "operator_service.hpp"
@@ -75,6 +76,7 @@ private:
     std::unique_ptr<DemoApplication> demo_;
     std::unique_ptr<sequencer::MasterStateMachine> state_machine_;
     std::unique_ptr<sequencer::SlaveMonitor> slave_monitor_;
+    std::unique_ptr<tap_bridge::TapBridge> tap_bridge_;  // only with a tap block; outlives the controller
     std::unique_ptr<redundancy::RedundancyController> redundancy_;  // only in a redundant pair
     arbitration::SystemRandom random_;
     std::unique_ptr<supervisor::Supervisor> supervisor_;            // decides the pair member's role

@@ -2,7 +2,10 @@
 
 #include <algorithm>
 
+#include <fmt/format.h>
+
 #include "ecpair/wire/al_status.hpp"
+#include "tap_bridge_status.hpp"
 #include "link_guard_status.hpp"
 
 namespace ecpair::daemon {
@@ -96,6 +99,7 @@ control::StatusReply OperatorService::status(const control::StatusRequest& reque
         out->set_dropped_damaged(r.forwarding.dropped_damaged);
         if (supervisor_) add_supervisor_status(r, *reply.mutable_supervisor());
     }
+    if (tap_bridge_) fill_tap_bridge_status(*tap_bridge_, *reply.mutable_tap_bridge());
     const auto loop = demo_.stats();
     auto* l = reply.mutable_loopback();
     l->set_cycles_checked(loop.cycles_checked);
@@ -106,6 +110,13 @@ control::StatusReply OperatorService::status(const control::StatusRequest& reque
 }
 
 std::optional<std::string> OperatorService::set_master_state(const control::SetMasterStateRequest& request) {
+    if (redundancy_ && redundancy_->state() == redundancy::RedState::Inactive) {
+        const auto pair = redundancy_->snapshot();
+        return fmt::format("MasterRedStateInactive: this member is INACTIVE and must not talk to the slaves; {}",
+                           pair.heard ? fmt::format("the ACTIVE partner {} drives them: ask it",
+                                                    pair.heard->sender.member.to_string())
+                                      : std::string("no ACTIVE partner is heard"));
+    }
     std::string name = request.state();
     std::transform(name.begin(), name.end(), name.begin(), [](unsigned char c) { return static_cast<char>(std::toupper(c)); });
     static const std::pair<const char*, sequencer::MasterState> kStates[] = {
@@ -162,6 +173,7 @@ void OperatorService::add_supervisor_status(const redundancy::RedundancySnapshot
     out.set_comm_timeout_ms(static_cast<std::uint32_t>(
         std::chrono::duration_cast<std::chrono::milliseconds>(s.comm_timeout).count()));
     out.set_silence_ms(std::chrono::duration<double, std::milli>(s.silence).count());
+    out.set_longest_silence_ms(std::chrono::duration<double, std::milli>(s.longest_silence).count());
     out.set_last_cmf_age_ms(age_ms(pair.last_cmf_completed));
     out.set_partner_answer_age_ms(age_ms(pair.partner_last_answer));
     if (pair.state == redundancy::RedState::Active && pair.partner_status) {

@@ -29,11 +29,14 @@ struct EcpairdSettings {
     std::string demo = "LOOPBACK_CHECK";
     std::string extra_config;  // more textproto lines
     std::string control_extra;  // more fields of `control { ... }` (the path is set already)
+    bool wait_until_ready = true;  // false: the constructor returns at once (call wait_ready())
 };
 
 class EcpairdProcess {
 public:
     EcpairdProcess(const TestNamespace& ns, EcpairdSettings settings);
+    // Waits (bounded) for the operator socket; throws with the log when the daemon does not come up.
+    void wait_ready();
 
     std::filesystem::path socket() const { return settings_.dir / (settings_.name + ".sock"); }
     std::filesystem::path config() const { return settings_.dir / (settings_.name + ".textproto"); }
@@ -41,6 +44,8 @@ public:
     bool running() { return process_->running(); }
     int stop() { return process_->stop(); }
     std::optional<int> wait_for_exit(std::chrono::milliseconds timeout) { return process_->wait_for_exit(timeout); }
+    // Sends a signal to the daemon (SIGKILL, SIGSTOP, SIGCONT...).
+    void signal(int signal_number) const;
 
     // Throws std::runtime_error when the daemon does not answer.
     control::StatusReply status(std::uint32_t variables = 0) const;

@@ -10,6 +10,7 @@
 
 #include "ecpair/common/expected.hpp"
 #include "ecpair/eni/model.hpp"
+#include "ecpair/tap_bridge/tap_bridge.hpp"
 
 namespace ecpair::config {
 
@@ -58,6 +59,7 @@ struct DaemonSettings {
     std::string log_level = "info";
     RedundancySettings redundancy;
     LinkGuardSettings link_guard;
+    std::optional<tap_bridge::TapBridgeOptions> tap;  // the TAP bridge, when configured
 };
 
 struct ConfigError {
