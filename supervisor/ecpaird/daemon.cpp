@@ -64,6 +64,7 @@ int Daemon::open() {
     }
     eni_ = *eni;
 
+    if (const int rc = open_link_guard(); rc != kOk) return rc;  // first: it brings the links up
     if (const int rc = open_links(); rc != kOk) return rc;
 
     master::MasterOptions options;
@@ -102,8 +103,11 @@ int Daemon::open() {
     operator_service_ = std::make_unique<OperatorService>(settings_, *master_, *state_machine_, *cycle_thread_, *demo_,
                                                           redundancy_.get(), supervisor_.get());
     operator_service_->set_tap_bridge(tap_bridge_.get());
+    operator_service_->set_link_guard(link_guard_.get());
+    if (link_guard_) link_guard_policy_ = make_link_guard_policy();
     control_server_ = std::make_unique<control::ControlServer>(
-        io_, *operator_service_, control::SocketSettings{settings_.control_path, settings_.control_mode, settings_.control_group});
+        io_, *operator_service_, control::SocketSettings{settings_.control_path, settings_.control_mode, settings_.control_group,
+                                                   settings_.control_request_timeout, settings_.control_max_clients});
     if (auto opened = control_server_->open(); !opened) {
         log()->error("{}", opened.error());
         return kBadConfig;
@@ -292,19 +296,26 @@ int Daemon::run() {
     // (the role change then starts the state machine).
     if (!redundancy_) state_machine_->request(*sequencer::to_master_state(settings_.target_state));
 
+    if (link_guard_) link_guard_->start_heartbeat();
+    service_notifier_ = systemd::ServiceNotifier::from_environment(io_, [this] { return master_->cycle(); },
+                                                                    [this] { return service_status(); });
+
     boost::asio::signal_set signals(io_, SIGINT, SIGTERM);
     signals.async_wait([this](const boost::system::error_code& ec, int signal) {
         if (!ec) log()->info("signal {}: stopping", signal);
+        service_notifier_->stopping();
         io_.stop();
     });
     // The monitor keeps its fd; asio must not close it.
     link_fd_.emplace(io_, ::dup(link_monitor_->selectable_fd()));
     watch_links();
+    service_notifier_->ready();
     io_.run();
 
     const auto timing = cycle_thread_->timing();
     const auto stats = master_->stats();
     stop_threads();
+    if (link_guard_) link_guard_->shutdown();  // stopped sending: now the links go down
     log()->info("{} cycles ({} late, {} skipped, wake-up latency p99 {} µs, max {} µs), {} frames sent, {} lost, "
                 "{} late copies, {} incomplete cycles, {} WKC errors",
                 timing.cycles, timing.late, timing.skipped, timing.latency_percentile_us(99.0),

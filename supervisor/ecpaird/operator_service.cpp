@@ -6,6 +6,7 @@
 
 #include "ecpair/wire/al_status.hpp"
 #include "tap_bridge_status.hpp"
+#include "link_guard_status.hpp"
 
 namespace ecpair::daemon {
 namespace {
@@ -104,6 +105,7 @@ control::StatusReply OperatorService::status(const control::StatusRequest& reque
     l->set_cycles_checked(loop.cycles_checked);
     l->set_slave_checks(loop.slaves_checked);
     l->set_mismatches(loop.mismatches);
+    fill_link_guard_status(link_guard_, *reply.mutable_link_guard());
     return reply;
 }
 

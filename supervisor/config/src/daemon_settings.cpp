@@ -184,6 +184,19 @@ Expected<DaemonSettings, ConfigError> parse_daemon_settings(const std::string& t
         s.control_mode = proto.control().mode();
     }
     s.control_group = proto.control().group();
+    if (proto.control().request_timeout_ms() != 0) {
+        if (proto.control().request_timeout_ms() < 100 || proto.control().request_timeout_ms() > 600'000) {
+            return fail("control.request_timeout_ms",
+                        fmt::format("must be 100..600000 ms (got {})", proto.control().request_timeout_ms()));
+        }
+        s.control_request_timeout = std::chrono::milliseconds(proto.control().request_timeout_ms());
+    }
+    if (proto.control().max_clients() != 0) {
+        if (proto.control().max_clients() > 65'536) {
+            return fail("control.max_clients", fmt::format("must be 1..65536 (got {})", proto.control().max_clients()));
+        }
+        s.control_max_clients = proto.control().max_clients();
+    }
     if (proto.has_max_acyclic_frames_per_cycle()) {
         if (proto.max_acyclic_frames_per_cycle() < 1 || proto.max_acyclic_frames_per_cycle() > 16) {
             return fail("max_acyclic_frames_per_cycle",
@@ -262,6 +275,15 @@ Expected<DaemonSettings, ConfigError> parse_daemon_settings(const std::string& t
         }
         out.start_in_forced_standby = r.start_in_forced_standby();
         out.takeover_from_differing_partner = r.takeover_from_differing_partner();
+    }
+    // The link guard protects the partner's ring: on by default in a pair.
+    s.link_guard.enabled = proto.link_guard().has_enabled() ? proto.link_guard().enabled() : s.redundancy.enabled;
+    if (proto.link_guard().hang_timeout_ms() != 0) {
+        if (proto.link_guard().hang_timeout_ms() < 10 || proto.link_guard().hang_timeout_ms() > 60'000) {
+            return fail("link_guard.hang_timeout_ms",
+                        fmt::format("must be 10..60000 ms (got {})", proto.link_guard().hang_timeout_ms()));
+        }
+        s.link_guard.hang_timeout = std::chrono::milliseconds(proto.link_guard().hang_timeout_ms());
     }
     if (proto.has_tap()) {
         auto tap = tap_settings(proto.tap(), s.redundancy.enabled);
