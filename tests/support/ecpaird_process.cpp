@@ -39,7 +39,14 @@ EcpairdProcess::EcpairdProcess(const TestNamespace& ns, EcpairdSettings settings
 
 void EcpairdProcess::wait_ready() {
     const auto give_up = std::chrono::steady_clock::now() + kStartGuard;
-    while (!std::filesystem::exists(socket())) {
+    // Ready is answering: the socket file appears at bind(), a moment before
+    // the daemon listens, and a connect in between is refused.
+    const auto answers = [this] {
+        control::Request request;
+        request.mutable_status()->set_max_variables(0);
+        return std::filesystem::exists(socket()) && control::call(socket().string(), request).has_value();
+    };
+    while (!answers()) {
         if (!process_->running() || std::chrono::steady_clock::now() > give_up) {
             throw std::runtime_error("ecpaird did not come up:\n" + process_->log());
         }
