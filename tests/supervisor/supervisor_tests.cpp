@@ -76,6 +76,20 @@ TEST_CASE("a member that hears an ACTIVE while listening stands by and never pre
     CHECK(h.last.ready_for_handoff);          // a hot standby
 }
 
+TEST_CASE("the longest silence in the status is what a standby counted, not the listening at start",
+          "[supervisor]") {
+    SupervisorHarness h;
+    h.cycle();
+    h.cycles(150);  // listening: 150 ms without an ACTIVE heard
+    for (int i = 0; i < 100; ++i) {
+        h.partner_cmf();
+        h.cycle();
+        if (i == 40) h.cycles(20);  // the ACTIVE silent for 20 cycles, then heard again
+    }
+    REQUIRE(h.state() == SupervisorState::Standby);
+    CHECK(h.supervisor.status().longest_silence == 21ms);  // CMFs 21 cycles apart
+}
+
 TEST_CASE("a member started in forced standby never takes the bus until released", "[supervisor]") {
     auto options = SupervisorHarness::default_options();
     options.start_in_forced_standby = true;

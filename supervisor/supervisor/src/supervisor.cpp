@@ -188,6 +188,11 @@ redundancy::RoleDecision Supervisor::decide(const Observation& seen) {
     cycle_ = seen.cycle;
     role_.reset();
     comm_.cycle(seen.now);
+    if (state_ == SupervisorState::Standby || state_ == SupervisorState::HandOffPending) {
+        // The figure for choosing comm_timeout: only the silence a standby counts
+        // (listening at start counts too, but says nothing about the partner).
+        longest_standby_silence_ = std::max(longest_standby_silence_, comm_.silence());
+    }
 
     if (!started_) {
         started_ = true;
@@ -577,7 +582,7 @@ void Supervisor::publish(const Observation& seen, const redundancy::RoleDecision
     status_.epoch = epoch_;
     status_.arbitration = arbiter_.state();
     status_.silence = is_active_state(state_) ? std::chrono::nanoseconds(0) : comm_.silence();
-    status_.longest_silence = comm_.longest_silence();
+    status_.longest_silence = longest_standby_silence_;
     status_.handoff_cycle = announcement_ ? std::optional<std::uint64_t>(announcement_->cycle()) : pending_handoff_;
     status_.no_active = no_active_;
     status_.handoff_refusal = is_active_state(state_) ? refusal(seen) : std::nullopt;

@@ -109,7 +109,7 @@ struct SupervisorStatus {
     arbitration::ArbiterState arbitration = arbitration::ArbiterState::Idle;
     std::chrono::nanoseconds comm_timeout{0};
     std::chrono::nanoseconds silence{0};  // INACTIVE: counted towards the comm timeout
-    std::chrono::nanoseconds longest_silence{0};  // the longest silence counted since start (as INACTIVE)
+    std::chrono::nanoseconds longest_silence{0};  // the longest silence counted standing by, since start
     std::optional<std::uint64_t> handoff_cycle;
     std::optional<master::NoActiveReason> no_active;  // set while no member can be ACTIVE as far as we know
     std::optional<master::HandOffRefusal> handoff_refusal;  // ACTIVE: why a switchover could not start now
@@ -170,6 +170,7 @@ private:
     master::EventQueue& events_;
     arbitration::Arbiter arbiter_;
     CommTimeout comm_;
+    std::chrono::nanoseconds longest_standby_silence_{0};
 
     // Cycle thread.
     bool started_ = false;
