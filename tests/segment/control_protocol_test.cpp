@@ -49,7 +49,8 @@ TEST_CASE("bad requests are refused with a reason", "[control]") {
     CHECK(refusal("power-off") == "power-off takes 1 argument, got 0: power-off K");
     CHECK(refusal("status 1") == "status takes 0 arguments, got 1: status");
     CHECK(refusal("set-id 1") == "set-id takes 2 arguments, got 1: set-id K VALUE");
-    CHECK(refusal("break 1 2 3") == "too many words in 'break 1 2 3'");
+    CHECK(refusal("break 1 2 3") == "break takes 1 argument, got 3: break K");
+    CHECK(refusal("break 1 2 3 4") == "too many words in 'break 1 2 3 4'");
     CHECK(refusal("break -1") == "break: K must be a decimal number in 0..65535, got '-1'");
     CHECK(refusal("break 0x2") == "break: K must be a decimal number in 0..65535, got '0x2'");
     CHECK(refusal("break 65536") == "break: K must be a decimal number in 0..65535, got '65536'");
