@@ -51,7 +51,7 @@ void SlaveMonitor::poll_once() {
             entry.al_status = reply->data[0];
             entry.al_status_code = load_le<std::uint16_t>(reply->data, 4);
         }
-        const auto previous = image_.set(i, entry);
+        const auto previous = image_.set_observed(i, entry);
         if (previous.present != entry.present) {
             logger("slaves")->log(entry.present ? spdlog::level::info : spdlog::level::warn,
                                   "slave {} '{}' (station {}) is {}", i, eni_->slaves[i].info.name, station,
