@@ -27,6 +27,7 @@ CyclicExchange::CyclicExchange(CyclicPlan plan) : plan_(std::move(plan)) {
         for (const auto& d : frame.datagrams) expected_.push_back(d.expected_wkc);
     }
     last_wkc_.assign(expected_.size(), 0);
+    frame_irq_.assign(plan_.frames.size(), 0);
     for (std::size_t f = 0; f < plan_.frames.size(); ++f) {
         const auto& datagrams = plan_.frames[f].datagrams;
         for (std::size_t s = 0; s < kCyclicStates.size(); ++s) {
@@ -97,7 +98,9 @@ FrameCompletion CyclicExchange::complete(std::size_t index, const wire::ConstFra
         return result;
     }
     std::size_t i = 0;
+    std::uint16_t irq = 0;
     for (const auto d : returned) {
+        irq = static_cast<std::uint16_t>(irq | d.irq());
         const std::size_t flat = first_[index] + list[i];
         const PlannedDatagram& planned = datagrams[list[i++]];
         if (d.command() != planned.command || d.length() != planned.length) {
@@ -117,7 +120,14 @@ FrameCompletion CyclicExchange::complete(std::size_t index, const wire::ConstFra
             }
         }
     }
+    frame_irq_[index] = irq;
     return result;
+}
+
+std::uint16_t CyclicExchange::irq() const {
+    std::uint16_t irq = 0;
+    for (const auto f : frame_irq_) irq = static_cast<std::uint16_t>(irq | f);
+    return irq;
 }
 
 }  // namespace ecpair::master

@@ -160,8 +160,8 @@ std::string describe(const Event& e) {
             return prefix + fmt::format("topology change: the AL status BRD counts {} slave(s), {} before", count_text(e.b),
                                         count_text(e.a));
         case EventKind::TopologyChangeDone:
-            return prefix + fmt::format("topology change done: {}; {} of {} optional group(s) present; {} cycle(s) "
-                                        "with WKC deviations during the change",
+            return prefix + fmt::format("topology change done: {}; {} of {} optional group(s) present; {} WKC "
+                                        "deviation(s) put down to the change",
                                         topology_result_text(e.a), e.b, e.c, e.d);
         case EventKind::DetectAddGroups:
         case EventKind::ProbeAllGroups:

@@ -72,6 +72,7 @@ TopologyObservation TopologyWatch::after_cycle(const CyclicExchange& exchange, s
         changed = signature != last_signature_;
     }
     last_signature_ = signature;
+    changed = changed || (exchange.irq() & kDlStatusEvent) != 0;
 
     if (!armed_.load()) return o;
     if (changed && !changing_.load()) {

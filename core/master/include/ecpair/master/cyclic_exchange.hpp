@@ -65,6 +65,8 @@ public:
     std::optional<std::uint16_t> expected(std::size_t flat) const { return expected_[flat]; }
     // The WKC a datagram came back with last (0 before it ever did).
     std::uint16_t last_wkc(std::size_t flat) const { return last_wkc_[flat]; }
+    // The IRQ fields of the frames as they came back last, ORed (the slaves' ECAT events).
+    std::uint16_t irq() const;
 
 private:
     static std::size_t state_slot(eni::SlaveState state);
@@ -76,6 +78,7 @@ private:
     std::vector<std::size_t> first_;  // flat index of each frame's first datagram
     std::vector<std::optional<std::uint16_t>> expected_;
     std::vector<std::uint16_t> last_wkc_;
+    std::vector<std::uint16_t> frame_irq_;  // per frame
 };
 
 }  // namespace ecpair::master

@@ -37,7 +37,7 @@ enum class EventKind : std::uint8_t {
     TopologyVerified,     // a = 1 if the background scan matches the mirrored image
     // Hot-Connect (issue 10): results are TopologyResult, group masks cover groups 1..32.
     TopologyChangeDetected,      // a = slaves counted before, b = now (0xFFFF: not known), from the cycle
-    TopologyChangeDone,          // a = result, b = optional groups present, c = optional groups, d = cycles deviating
+    TopologyChangeDone,          // a = result, b = optional groups present, c = optional groups, d = WKC deviations
     DetectAddGroups,             // a = result, b = optional groups, c = groups present, d = presence mask
     ProbeAllGroups,              // as DetectAddGroups, after groups went away
     BusMismatchIdentification,   // a = position, b = identification Ado, c = value read (0x10000: none), d = expected

@@ -3,7 +3,11 @@
 // (hot-connect.md §3): the AL-status BRD (0x0130) counts the slaves that
 // answer, so a change of its working counter from one cycle to the next is a
 // slave that came or went; without such a BRD, a change in the pattern of
-// WKC deviations (which datagrams, by how much) is taken instead.
+// WKC deviations (which datagrams, by how much) is taken instead. And a
+// slave whose DL status changed (a link came or went at one of its ports:
+// a cable re-plugged elsewhere changes no count) raises its DL status event,
+// which Hot-Connect has the slaves pass on in the IRQ field of every frame
+// (0x0200 bit 2, cleared when its DL status is read).
 //
 // Once armed (by Hot-Connect, when the slaves are where the master wants
 // them), such a change starts a topology change: the cycle reports it and
@@ -28,6 +32,8 @@
 
 namespace ecpair::master {
 
+inline constexpr std::uint16_t kDlStatusEvent = 0x0004;  // ECAT event request / mask bit 2
+
 struct TopologyObservation {
     bool attributed = false;    // this cycle's WKC deviations belong to a topology change
     bool detected_now = false;  // a topology change starts in this cycle
@@ -45,6 +51,8 @@ public:
     void disarm();
     bool armed() const { return armed_.load(); }
     void settle();
+    // A change found elsewhere (a periodic count, an operator): deviations are its from now on.
+    void begin_change() { changing_.store(true); }
     bool changing() const { return changing_.load(); }
     std::uint64_t changes() const { return changes_.load(); }
     // The slave count the AL-status BRD showed last (nullopt: the plan has none, or none came back yet).
