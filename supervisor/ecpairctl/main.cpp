@@ -8,6 +8,7 @@
 #include "daemon_commands.hpp"
 #include "ecpair/common/log.hpp"
 #include "eni_command.hpp"
+#include "hot_connect_commands.hpp"
 #include "scan_command.hpp"
 
 namespace {
@@ -25,6 +26,7 @@ void print_usage(std::ostream& out) {
            "  state STATE               ask ecpaird for INIT, PREOP, SAFEOP or OP\n"
            "  red-state ACTIVE|INACTIVE make a controller of a pair ACTIVE or INACTIVE\n"
            "  compare --socket A --socket B  check that a pair's images agree, cycle by cycle\n"
+        << ecpair::ctl::hot_connect_usage() <<
            "  (daemon commands take --socket PATH or --name NAME; default /run/ecpair/ecpaird.sock)\n"
            "  help                      this text\n";
 }
@@ -47,6 +49,7 @@ int main(int argc, char** argv) {
     if (command == "state") return ecpair::ctl::run_state_command(args, std::cout, std::cerr);
     if (command == "red-state") return ecpair::ctl::run_red_state_command(args, std::cout, std::cerr);
     if (command == "compare") return ecpair::ctl::run_compare_command(args, std::cout, std::cerr);
+    if (const auto rc = ecpair::ctl::run_hot_connect_command(command, args, std::cout, std::cerr)) return *rc;
     if (command == "help" || command == "--help" || command == "-h") {
         print_usage(std::cout);
         return 0;

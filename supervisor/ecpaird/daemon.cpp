@@ -81,11 +81,17 @@ int Daemon::open() {
     demo_ = std::make_unique<DemoApplication>(*eni_, settings_.demo, settings_.demo_step_cycles);
     master_->set_cycle_hook([this](master::ProcessImage& image, const master::CycleInfo& info) { on_cycle(image, info); });
 
+    open_hot_connect();
     sequencer::StateMachineHooks hooks;
     hooks.request_cyclic_state = [this](eni::SlaveState s) { master_->request_state(s); };
     hooks.cyclic_state = [this] { return master_->state(); };
     hooks.on_done = [this](const sequencer::SequenceResult& result) { on_sequence_done(result); };
+    hooks.on_start = [this] { hot_connect_->on_sequence_busy(); };
+    hooks.on_scan = [this](const sequencer::ScanOutcome& outcome) { hot_connect_->on_startup_scan(outcome); };
     state_machine_ = std::make_unique<sequencer::MasterStateMachine>(eni_, master_->bus(), std::move(hooks), &events_);
+    hot_connect_->set_presence_listener([this](const std::vector<bool>& present, const std::vector<std::uint16_t>& shift) {
+        state_machine_->update_presence(present, shift);
+    });
     if (const int rc = open_redundancy(); rc != kOk) return rc;
     slave_monitor_ = std::make_unique<sequencer::SlaveMonitor>(eni_, master_->bus(), master_->slaves(), &events_, [this] {
         return master_->state() != eni::SlaveState::Init;  // station addresses are assigned from PREOP on
@@ -98,7 +104,7 @@ int Daemon::open() {
         cycle, [this](link::Clock::time_point deadline) { master_->run_cycle(deadline); });
 
     operator_service_ = std::make_unique<OperatorService>(settings_, *master_, *state_machine_, *cycle_thread_, *demo_,
-                                                          redundancy_.get());
+                                                          redundancy_.get(), *hot_connect_service_);
     control_server_ = std::make_unique<control::ControlServer>(
         io_, *operator_service_, control::SocketSettings{settings_.control_path, settings_.control_mode, settings_.control_group});
     if (auto opened = control_server_->open(); !opened) {
@@ -141,7 +147,10 @@ void Daemon::stop_threads() {
     stopping_ = true;
     topology_verifier_.reset();
     slave_monitor_.reset();
+    // Hot-Connect and the state machine call each other: cut that, then stop the machine first.
+    if (hot_connect_) hot_connect_->set_presence_listener({});
     state_machine_.reset();  // cancels a running sequence (its requests fail when the cycle stops)
+    hot_connect_.reset();
     if (cycle_thread_) cycle_thread_->stop();
     for (auto& r : receive_threads_) r->stop();
     if (event_thread_.joinable()) event_thread_.join();
@@ -198,11 +207,28 @@ int Daemon::open_redundancy() {
     return kOk;
 }
 
+// Hot-Connect follows the bus from the first startup scan on; an INACTIVE
+// pair member follows the mirrored image until it takes over.
+void Daemon::open_hot_connect() {
+    hotconnect::HotConnectOptions options;
+    const auto& h = settings_.hot_connect;
+    options.mode = h.mode == config::HotConnectMode::ManualPreop     ? hotconnect::HotConnectMode::ManualPreop
+                   : h.mode == config::HotConnectMode::ManualNoReset ? hotconnect::HotConnectMode::ManualNoReset
+                                                                     : hotconnect::HotConnectMode::Automatic;
+    options.border_close = h.border_close;
+    options.detection_timeout = h.detection_timeout;
+    hot_connect_host_ = std::make_unique<hotconnect::MasterHost>(*master_);
+    hot_connect_ = std::make_unique<hotconnect::HotConnect>(eni_, *hot_connect_host_, &events_, options);
+    hot_connect_service_ = std::make_unique<HotConnectService>(*hot_connect_);
+    if (settings_.redundancy.enabled && !settings_.redundancy.start_active) hot_connect_->set_active(false);
+}
+
 // On the state machine's worker thread. A master keeps trying to bring its
 // bus up: a failed start (a scan that found nobody, a slave missing, a
 // command that timed out) is tried again a little later, until it works or
 // the target changes. An INACTIVE master or a shutdown ends it quietly.
 void Daemon::on_sequence_done(const sequencer::SequenceResult& result) {
+    hot_connect_->on_sequence_idle(result.reached, !result.error && result.reached == result.target);
     if (!result.error) {
         log()->info("slaves in {}", sequencer::to_string(result.reached));
         return;
@@ -230,11 +256,16 @@ void Daemon::on_sequence_done(const sequencer::SequenceResult& result) {
 // to the control thread at once.
 void Daemon::on_role_change(const redundancy::RoleChange& change) {
     boost::asio::post(io_, [this, change] {
-        if (change.to == redundancy::RedState::Inactive) return;  // sequences stop on their own (bus refused)
+        if (change.to == redundancy::RedState::Inactive) {
+            hot_connect_->set_active(false);
+            return;  // sequences stop on their own (bus refused)
+        }
         if (change.hot) {
             if (const auto state = sequencer::to_master_state(change.master_state)) state_machine_->adopt(*state);
             topology_verifier_->verify(master_->slaves().snapshot());
+            hot_connect_->after_takeover();
         } else {
+            hot_connect_->set_active(true);
             state_machine_->request(*sequencer::to_master_state(settings_.target_state));
         }
     });

@@ -16,6 +16,7 @@
 #include "demo_application.hpp"
 #include "ecpair/control/control_server.hpp"
 #include "ecpair/config/daemon_settings.hpp"
+#include "ecpair/hotconnect/hot_connect.hpp"
 #include "ecpair/eni/model.hpp"
 #include "ecpair/link/link_state_monitor.hpp"
 #include "ecpair/link/pcap_link.hpp"
@@ -53,6 +54,7 @@ private:
     std::chrono::microseconds cycle_time() const;
     int open_links();
     int open_redundancy();
+    void open_hot_connect();
     void on_role_change(const redundancy::RoleChange& change);
     void on_sequence_done(const sequencer::SequenceResult& result);
     void on_cycle(master::ProcessImage& image, const master::CycleInfo& info);
@@ -67,6 +69,9 @@ private:
     std::unique_ptr<DemoApplication> demo_;
     std::unique_ptr<sequencer::MasterStateMachine> state_machine_;
     std::unique_ptr<sequencer::SlaveMonitor> slave_monitor_;
+    std::unique_ptr<hotconnect::MasterHost> hot_connect_host_;
+    std::unique_ptr<hotconnect::HotConnect> hot_connect_;
+    std::unique_ptr<HotConnectService> hot_connect_service_;
     std::unique_ptr<redundancy::RedundancyController> redundancy_;  // only in a redundant pair
     std::unique_ptr<redundancy::TopologyVerifier> topology_verifier_;
     std::unique_ptr<master::CycleThread> cycle_thread_;

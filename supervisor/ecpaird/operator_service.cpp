@@ -94,6 +94,7 @@ control::StatusReply OperatorService::status(const control::StatusRequest& reque
         out->set_dropped_non_ethercat(r.forwarding.dropped_non_ethercat);
         out->set_dropped_damaged(r.forwarding.dropped_damaged);
     }
+    hot_connect_.fill_summary(*reply.mutable_hot_connect());
     const auto loop = demo_.stats();
     auto* l = reply.mutable_loopback();
     l->set_cycles_checked(loop.cycles_checked);

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "demo_application.hpp"
+#include "hot_connect_service.hpp"
 #include "ecpair/config/daemon_settings.hpp"
 #include "ecpair/control/control_server.hpp"
 #include "ecpair/master/cycle_thread.hpp"
@@ -19,18 +20,21 @@ class OperatorService final : public control::ControlHandler {
 public:
     OperatorService(const config::DaemonSettings& settings, master::Master& master,
                     sequencer::MasterStateMachine& state_machine, const master::CycleThread& cycle_thread,
-                    const DemoApplication& demo, redundancy::RedundancyController* redundancy)
+                    const DemoApplication& demo, redundancy::RedundancyController* redundancy,
+                    HotConnectService& hot_connect)
         : settings_(settings),
           master_(master),
           state_machine_(state_machine),
           cycle_thread_(cycle_thread),
           demo_(demo),
-          redundancy_(redundancy) {}
+          redundancy_(redundancy),
+          hot_connect_(hot_connect) {}
 
     control::StatusReply status(const control::StatusRequest& request) override;
     std::optional<std::string> set_master_state(const control::SetMasterStateRequest& request) override;
     std::optional<std::string> set_red_state(const control::SetRedStateRequest& request) override;
     control::ImageHistoryReply image_history(const control::ImageHistoryRequest& request) override;
+    control::Response hot_connect(const control::Request& request) override { return hot_connect_.handle(request); }
 
 private:
     const config::DaemonSettings& settings_;
@@ -39,6 +43,7 @@ private:
     const master::CycleThread& cycle_thread_;
     const DemoApplication& demo_;
     redundancy::RedundancyController* redundancy_;  // null outside a pair
+    HotConnectService& hot_connect_;
 };
 
 // The event as the operator API carries it.

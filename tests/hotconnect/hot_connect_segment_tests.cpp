@@ -93,7 +93,7 @@ TEST_CASE("a mandatory slave fails: the change completes with an error, WKCs kee
     CHECK(bench.saw(EventKind::SlavePresence, 6));
 }
 
-TEST_CASE("an unknown slave plugged in: a mismatch; block node cuts it off, open blocked ports lets it in again",
+TEST_CASE("an unknown slave plugged in is a mismatch, block node cuts it off, open blocked ports lets it in again",
           "[hotconnect][segment]") {
     HotConnectBench bench(grouped());
     bench.start();
@@ -174,7 +174,7 @@ TEST_CASE("a duplicate of a group head: the first found is used, the second is u
     CHECK(status_of(*bench.hot_connect, 1) == GroupStatus::Present);
 }
 
-TEST_CASE("a group slave refusing SAFEOP: the group is left out; block node locks it out", "[hotconnect][segment]") {
+TEST_CASE("a group slave refusing SAFEOP leaves its group out, and block node locks it out", "[hotconnect][segment]") {
     HotConnectBench bench(grouped());
     bench.with_segment([](sim::Segment& s) { REQUIRE(s.set_group_power(2, false)); });
     bench.start();
@@ -332,7 +332,7 @@ TEST_CASE("a CoE drive group joins with its SDO InitCmds", "[hotconnect][segment
     CHECK(bench.al_state(3) == kOp);
 }
 
-TEST_CASE("operations: errors name the problem; the alias is programmed into the SII", "[hotconnect][segment]") {
+TEST_CASE("operations name the problem when refused, and the alias is programmed into the SII", "[hotconnect][segment]") {
     HotConnectBench bench(grouped());
     bench.with_segment([](sim::Segment& s) { REQUIRE(s.set_group_power(2, false)); });
     bench.start();

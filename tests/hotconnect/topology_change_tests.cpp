@@ -31,7 +31,7 @@ TEST_CASE("the manual modes wait for an accept", "[hotconnect]") {
     CHECK(next(S::AwaitingAccept, I::Detected, M::ManualPreop) == S::Settling);  // a new change scans again
 }
 
-TEST_CASE("timeouts, failures and cancellation end a change; what a state cannot use is ignored", "[hotconnect]") {
+TEST_CASE("timeouts, failures and cancellation end a change, and what a state cannot use is ignored", "[hotconnect]") {
     CHECK(next(S::Settling, I::Timeout) == S::Idle);
     for (const auto from : {S::Settling, S::Scanning, S::PreparingPreop, S::AwaitingAccept, S::BringingUp, S::Closing}) {
         CHECK(next(from, I::Cancelled) == S::Idle);

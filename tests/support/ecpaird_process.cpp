@@ -77,6 +77,12 @@ std::string EcpairdProcess::request_red_state(const std::string& state) const {
     return response->ok() ? std::string() : response->error();
 }
 
+control::Response EcpairdProcess::call(const control::Request& request) const {
+    auto response = control::call(socket().string(), request);
+    if (!response) throw std::runtime_error(response.error().message);
+    return std::move(*response);
+}
+
 control::ImageHistoryReply EcpairdProcess::image_history() const {
     control::Request request;
     request.mutable_image_history();

@@ -50,6 +50,8 @@ public:
     // Asks for ACTIVE or INACTIVE; empty when accepted.
     std::string request_red_state(const std::string& state) const;
     control::ImageHistoryReply image_history() const;
+    // Any request; the response as it came (throws when the daemon does not answer).
+    control::Response call(const control::Request& request) const;
 
 private:
     EcpairdSettings settings_;

@@ -261,7 +261,7 @@ void Master::complete_previous_cycle(link::Clock::time_point now) {
     in_flight_.clear();
 
     // Deviations that a topology change explains are counted as such, not raised as errors.
-    const auto topology = topology_watch_.after_cycle(exchange_, mismatches_);
+    const auto topology = topology_watch_.after_cycle(exchange_, mismatches_, expected_wkcs_pending_.load());
     if (topology.detected_now) {
         raise(EventKind::TopologyChangeDetected, topology.slaves_before.value_or(kNoCount),
               topology.slaves_now.value_or(kNoCount));

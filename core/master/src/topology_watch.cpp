@@ -46,17 +46,21 @@ void TopologyWatch::arm(std::function<void()> on_change) {
 void TopologyWatch::disarm() {
     armed_.store(false);
     changing_.store(false);
+    settle_requested_.store(false);
 }
-
-void TopologyWatch::settle() { changing_.store(false); }
 
 std::optional<std::uint16_t> TopologyWatch::slaves_counted() const {
     const auto c = counted_.load();
     return c < 0 ? std::nullopt : std::optional<std::uint16_t>(static_cast<std::uint16_t>(c));
 }
 
-TopologyObservation TopologyWatch::after_cycle(const CyclicExchange& exchange, std::span<const WkcMismatch> mismatches) {
+TopologyObservation TopologyWatch::after_cycle(const CyclicExchange& exchange, std::span<const WkcMismatch> mismatches,
+                                               bool expectations_pending) {
     TopologyObservation o;
+    if (settle_requested_.load() && !expectations_pending) {
+        settle_requested_.store(false);
+        changing_.store(false);
+    }
     std::optional<std::uint16_t> count;
     if (!al_status_counters_.empty()) count = exchange.last_wkc(al_status_counters_.front());
     const std::uint64_t signature = signature_of(mismatches);

@@ -141,6 +141,11 @@ void MasterStateMachine::worker(std::stop_token stop) {
         if (stop.stop_requested()) return;
         running_ = true;
         last_error_.reset();
+        if (hooks_.on_start) {
+            lock.unlock();
+            hooks_.on_start();
+            lock.lock();
+        }
         std::optional<SequenceError> error;
         MasterState target{};
         for (;;) {

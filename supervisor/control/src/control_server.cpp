@@ -102,6 +102,13 @@ private:
                 *response.mutable_image_history() = handler_.image_history(request.image_history());
                 response.set_ok(true);
                 break;
+            case Request::kHcGroups:
+            case Request::kHcAccept:
+            case Request::kHcForce:
+            case Request::kHcBlockNode:
+            case Request::kHcOpenBlockedPorts:
+            case Request::kHcSetPort:
+            case Request::kHcSetAlias: response = handler_.hot_connect(request); break;
             case Request::KIND_NOT_SET:
                 response.set_error("empty request: set one of status, watch_events, set_master_state, set_red_state, image_history");
                 break;

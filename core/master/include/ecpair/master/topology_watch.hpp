@@ -50,16 +50,24 @@ public:
     void arm(std::function<void()> on_change);
     void disarm();
     bool armed() const { return armed_.load(); }
-    void settle();
+    // The change is dealt with: from the first cycle checked with the
+    // expected WKCs set before this call, deviations are errors again.
+    void settle() { settle_requested_.store(true); }
     // A change found elsewhere (a periodic count, an operator): deviations are its from now on.
-    void begin_change() { changing_.store(true); }
+    void begin_change() {
+        settle_requested_.store(false);
+        changing_.store(true);
+    }
     bool changing() const { return changing_.load(); }
     std::uint64_t changes() const { return changes_.load(); }
     // The slave count the AL-status BRD showed last (nullopt: the plan has none, or none came back yet).
     std::optional<std::uint16_t> slaves_counted() const;
 
     // ---- cycle thread
-    TopologyObservation after_cycle(const CyclicExchange& exchange, std::span<const WkcMismatch> mismatches);
+    // `expectations_pending`: new expected WKCs are waiting for the cycle boundary
+    // (this cycle was still checked with the old ones).
+    TopologyObservation after_cycle(const CyclicExchange& exchange, std::span<const WkcMismatch> mismatches,
+                                    bool expectations_pending = false);
 
 private:
     std::vector<std::size_t> al_status_counters_;  // flat indices of the AL-status BRDs
@@ -70,6 +78,7 @@ private:
 
     std::atomic<bool> armed_{false};
     std::atomic<bool> changing_{false};
+    std::atomic<bool> settle_requested_{false};
     std::atomic<std::uint64_t> changes_{0};
     std::atomic<std::int32_t> counted_{-1};
     mutable std::mutex listener_mutex_;  // the cycle only try_locks it

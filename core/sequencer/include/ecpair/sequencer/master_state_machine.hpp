@@ -79,6 +79,8 @@ struct StateMachineHooks {
     std::function<eni::SlaveState()> cyclic_state;
     // Called on the worker thread when a sequence ends (reached, failed or stopped).
     std::function<void(const SequenceResult&)> on_done;
+    // Called on the worker thread when it starts a sequence (before any transition).
+    std::function<void()> on_start;
     // Called on the worker thread after each startup scan, before anything is
     // sent to the slaves (Hot-Connect corrects the expected WKCs from it).
     std::function<void(const ScanOutcome&)> on_scan;

@@ -24,6 +24,14 @@ struct RedundancySettings {
     bool update_slave_pd_out = true;
 };
 
+enum class HotConnectMode : std::uint8_t { Automatic, ManualPreop, ManualNoReset };
+
+struct HotConnectSettings {
+    HotConnectMode mode = HotConnectMode::Automatic;
+    bool border_close = false;
+    std::chrono::milliseconds detection_timeout{15000};
+};
+
 struct DaemonSettings {
     std::string name = "ecpaird";
     std::string main_interface;
@@ -43,6 +51,7 @@ struct DaemonSettings {
     int realtime_priority = 80;
     std::string log_level = "info";
     RedundancySettings redundancy;
+    HotConnectSettings hot_connect;
 };
 
 struct ConfigError {

@@ -28,6 +28,8 @@ public:
     virtual std::optional<std::string> set_master_state(const SetMasterStateRequest& request) = 0;
     virtual std::optional<std::string> set_red_state(const SetRedStateRequest& request) = 0;
     virtual ImageHistoryReply image_history(const ImageHistoryRequest& request) = 0;
+    // Every Hot-Connect request (Request kinds 25-39): the whole response.
+    virtual Response hot_connect(const Request& request) = 0;
 };
 
 struct SocketSettings {
