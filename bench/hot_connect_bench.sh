@@ -8,8 +8,9 @@
 #   - power-on -> the group's last slave in OP (ecsim's AL state log);
 # and from ecsim's capture of the segment, for the whole window from the
 # power-on to the group in OP: the cyclic frames' largest gap at the slaves,
-# the cycles missing, and the LRD WKC range (the 4 slaves that stay count
-# 4 in it: it must never drop below that).
+# the cycles missing, and the LRD WKC range (the 3 slaves that stay count
+# 3 in it: it must never drop below that); and the same for the 300 ms of
+# steady OP right before the power-on, to tell a busy machine from the change.
 # Done twice: a group of simple I/O slaves, then a group of CoE drives (a
 # mailbox and three SDO InitCmds each).
 #
@@ -66,7 +67,7 @@ CONF
   for _ in $(seq 300); do "$ctl" status --socket "$work/m1.sock" 2>/dev/null | grep -q 'master OP' && break; sleep 0.1; done
   sleep 1
 
-  local done_ms=() op_ms=() windows=()
+  local done_ms=() op_ms=() windows=() baselines=()
   for i in $(seq "$count"); do
     local before; before=$(changes)
     sim group-off 1; wait_change "$before"; sleep 0.5
@@ -80,6 +81,7 @@ CONF
     done_ms+=($((done_at - on)))
     op_ms+=($((op_at - on)))
     windows+=("$((on * 1000)) $(((op_at + 20) * 1000))")
+    baselines+=("$(((on - 300) * 1000)) $((on * 1000))")
   done
   kill "$m1"; wait "$m1" 2>/dev/null || true; m1=
   kill "$sim"; wait "$sim" 2>/dev/null || true; sim=
@@ -89,9 +91,11 @@ CONF
   echo "$label: power-on -> the group in OP (ms):       ${op_ms[*]}"
   printf '%s\n' "${done_ms[@]}" | sort -n | awk '{a[NR]=$1} END {printf "%s:   topology-change-done median %d ms, max %d ms\n", lbl, a[int((NR+1)/2)], a[NR]}' lbl="$label"
   printf '%s\n' "${op_ms[@]}" | sort -n | awk '{a[NR]=$1} END {printf "%s:   group in OP median %d ms, max %d ms\n", lbl, a[int((NR+1)/2)], a[NR]}' lbl="$label"
-  for w in "${windows[@]}"; do
+  for i in "${!windows[@]}"; do
     # shellcheck disable=SC2086
-    echo "$label: cyclic frames at the slaves, power-on to OP: $("$analysis" cadence "$work/$label.pcap" $w 1000)"
+    echo "$label: cyclic frames at the slaves, power-on to OP: $("$analysis" cadence "$work/$label.pcap" ${windows[$i]} 1000)"
+    # shellcheck disable=SC2086
+    echo "$label:   the 300 ms of steady OP before:       $("$analysis" cadence "$work/$label.pcap" ${baselines[$i]} 1000)"
   done
 }
 

@@ -93,9 +93,11 @@ int Daemon::open() {
         state_machine_->update_presence(present, shift);
     });
     if (const int rc = open_redundancy(); rc != kOk) return rc;
-    slave_monitor_ = std::make_unique<sequencer::SlaveMonitor>(eni_, master_->bus(), master_->slaves(), &events_, [this] {
-        return master_->state() != eni::SlaveState::Init;  // station addresses are assigned from PREOP on
-    });
+    // Presence events come from Hot-Connect (after identification), not from every poll.
+    slave_monitor_ = std::make_unique<sequencer::SlaveMonitor>(
+        eni_, master_->bus(), master_->slaves(), &events_,
+        [this] { return master_->state() != eni::SlaveState::Init; },  // station addresses are assigned from PREOP on
+        std::chrono::milliseconds(100), /*report_presence=*/false);
 
     master::CycleThreadOptions cycle;
     cycle.period = master_->options().cycle_time;

@@ -180,11 +180,10 @@ void HotConnect::on_sequence_idle(MasterState reached, bool at_target) {
     }
     if (auto* watch = host_.topology_watch()) {
         if (arm) {
+            // On the cycle thread: it must never wait for the worker, so no lock. Should the
+            // worker be between checking and waiting, it finds the flag at its next poll.
             watch->arm([this] {
-                {
-                    std::lock_guard lock(mutex_);
-                    detected_ = true;
-                }
+                cycle_detected_.store(true);
                 wake_.notify_all();
             });
         } else {
@@ -224,9 +223,12 @@ void HotConnect::worker(std::stop_token stop) {
     std::unique_lock lock(mutex_);
     while (!stop.stop_requested()) {
         wake_.wait_for(lock, stop, options_.poll_period,
-                       [this] { return detected_ || accepted_ || takeover_ || close_pending_ || events_pending_; });
+                       [this] {
+                           return detected_ || cycle_detected_.load() || accepted_ || takeover_ || close_pending_ ||
+                                  events_pending_;
+                       });
         if (stop.stop_requested()) return;
-        const bool detected = std::exchange(detected_, false);
+        const bool detected = std::exchange(detected_, false) || cycle_detected_.exchange(false);
         const bool accepted = std::exchange(accepted_, false);
         const bool takeover = std::exchange(takeover_, false);
         const bool close = std::exchange(close_pending_, false);
@@ -341,15 +343,21 @@ void HotConnect::follow_image() {
 }
 
 void HotConnect::advance(ChangeInput input) {
-    std::lock_guard lock(mutex_);
-    const auto next = next_change_state(state_, input, options_.mode);
+    ChangeState from{};
+    std::optional<ChangeState> next;
+    {
+        std::lock_guard lock(mutex_);
+        from = state_;
+        next = next_change_state(state_, input, options_.mode);
+        if (next) state_ = *next;
+    }
+    wake_.notify_all();
+    // Logged outside the lock: nothing waits for a log line.
     if (!next) {
-        log()->debug("topology change: {} ignored in {}", to_string(input), to_string(state_));
+        log()->debug("topology change: {} ignored in {}", to_string(input), to_string(from));
         return;
     }
-    log()->info("topology change: {} -> {} ({})", to_string(state_), to_string(*next), to_string(input));
-    state_ = *next;
-    wake_.notify_all();
+    log()->info("topology change: {} -> {} ({})", to_string(from), to_string(*next), to_string(input));
 }
 
 // Settling through identification and the decision what to bring up; bus_work_ is held.
@@ -842,7 +850,8 @@ HotConnectStatus HotConnect::status() const {
 bool HotConnect::wait_idle(std::chrono::milliseconds timeout) const {
     std::unique_lock lock(mutex_);
     return wake_.wait_for(lock, timeout, [this] {
-        return (state_ == ChangeState::Idle || state_ == ChangeState::AwaitingAccept) && !detected_ && !accepted_ &&
+        return (state_ == ChangeState::Idle || state_ == ChangeState::AwaitingAccept) && !detected_ &&
+               !cycle_detected_.load() && !accepted_ &&
                !takeover_ && !close_pending_ && !events_pending_ && !working_;
     });
 }

@@ -40,6 +40,8 @@ void TopologyWatch::arm(std::function<void()> on_change) {
         std::lock_guard lock(listener_mutex_);
         on_change_ = std::move(on_change);
     }
+    // Counts seen before (an INACTIVE master sees none) are no reference for what comes.
+    rebaseline_.store(true);
     armed_.store(true);
 }
 
@@ -66,6 +68,10 @@ TopologyObservation TopologyWatch::after_cycle(const CyclicExchange& exchange, s
     const std::uint64_t signature = signature_of(mismatches);
 
     bool changed = false;
+    if (rebaseline_.exchange(false)) {
+        last_count_.reset();
+        last_signature_ = signature;
+    }
     if (count) {
         changed = last_count_.has_value() && *count != *last_count_;
         o.slaves_before = last_count_;

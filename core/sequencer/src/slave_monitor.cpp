@@ -9,13 +9,15 @@ namespace ecpair::sequencer {
 
 SlaveMonitor::SlaveMonitor(std::shared_ptr<const eni::EniConfig> eni, bus::BusAccess& bus,
                            master::SlaveStateImage& image, master::EventQueue* events,
-                           std::function<bool()> addresses_assigned, std::chrono::milliseconds period)
+                           std::function<bool()> addresses_assigned, std::chrono::milliseconds period,
+                           bool report_presence)
     : eni_(std::move(eni)),
       bus_(bus),
       image_(image),
       events_(events),
       addresses_assigned_(std::move(addresses_assigned)),
       period_(period),
+      report_presence_(report_presence),
       thread_([this](std::stop_token stop) { run(stop); }) {}
 
 SlaveMonitor::~SlaveMonitor() {
@@ -56,7 +58,7 @@ void SlaveMonitor::poll_once() {
             logger("slaves")->log(entry.present ? spdlog::level::info : spdlog::level::warn,
                                   "slave {} '{}' (station {}) is {}", i, eni_->slaves[i].info.name, station,
                                   entry.present ? "present" : "absent");
-            raise(master::EventKind::SlavePresence, static_cast<std::uint32_t>(i), entry.present ? 1 : 0);
+            if (report_presence_) raise(master::EventKind::SlavePresence, static_cast<std::uint32_t>(i), entry.present ? 1 : 0);
         }
         const wire::AlStatus status{entry.al_status};
         if (entry.present && status.error() && !(previous.present && wire::AlStatus{previous.al_status}.error())) {

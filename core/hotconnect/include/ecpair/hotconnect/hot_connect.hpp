@@ -168,7 +168,8 @@ private:
     // Guarded by mutex_ (short holds only: the cycle thread notifies through it).
     mutable std::mutex mutex_;
     mutable std::condition_variable_any wake_;
-    bool detected_ = false;
+    bool detected_ = false;                     // an operator's force
+    std::atomic<bool> cycle_detected_{false};   // the cycle's topology watch (set without the lock)
     bool accepted_ = false;
     bool takeover_ = false;       // became ACTIVE: finish what the image shows in progress
     bool close_pending_ = false;  // border close to run once the bus is up

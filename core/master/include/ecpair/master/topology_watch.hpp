@@ -79,6 +79,7 @@ private:
     std::atomic<bool> armed_{false};
     std::atomic<bool> changing_{false};
     std::atomic<bool> settle_requested_{false};
+    std::atomic<bool> rebaseline_{false};  // arm(): the next count is the new reference, not a change
     std::atomic<std::uint64_t> changes_{0};
     std::atomic<std::int32_t> counted_{-1};
     mutable std::mutex listener_mutex_;  // the cycle only try_locks it
