@@ -83,6 +83,8 @@ CONF
     windows+=("$((on * 1000)) $(((op_at + 20) * 1000))")
     baselines+=("$(((on - 300) * 1000)) $((on * 1000))")
   done
+  echo "$label: master after the runs: $("$ctl" status --socket "$work/m1.sock" | grep -E 'frames sent' | sed 's/^ *//'),"\
+       "cyclic-wkc-error events: $(grep -c 'event cyclic-wkc-error' "$work/m1.log" || true)"
   kill "$m1"; wait "$m1" 2>/dev/null || true; m1=
   kill "$sim"; wait "$sim" 2>/dev/null || true; sim=
   topology_down "$prefix"
