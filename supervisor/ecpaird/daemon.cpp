@@ -64,6 +64,7 @@ int Daemon::open() {
     }
     eni_ = *eni;
 
+    if (const int rc = open_link_guard(); rc != kOk) return rc;  // first: it brings the links up
     if (const int rc = open_links(); rc != kOk) return rc;
 
     master::MasterOptions options;
@@ -104,11 +105,17 @@ int Daemon::open() {
     cycle.realtime_priority = settings_.realtime_priority;
     cycle_thread_ = std::make_unique<master::CycleThread>(
         cycle, [this](link::Clock::time_point deadline) { master_->run_cycle(deadline); });
+    // A standby runs its cycle in step with the ACTIVE partner's.
+    if (redundancy_) cycle_thread_->set_phase_reference([this] { return redundancy_->phase_reference(); });
 
     operator_service_ = std::make_unique<OperatorService>(settings_, *master_, *state_machine_, *cycle_thread_, *demo_,
-                                                          redundancy_.get(), *hot_connect_service_);
+                                                          redundancy_.get(), supervisor_.get(), *hot_connect_service_);
+    operator_service_->set_tap_bridge(tap_bridge_.get());
+    operator_service_->set_link_guard(link_guard_.get());
+    if (link_guard_) link_guard_policy_ = make_link_guard_policy();
     control_server_ = std::make_unique<control::ControlServer>(
-        io_, *operator_service_, control::SocketSettings{settings_.control_path, settings_.control_mode, settings_.control_group});
+        io_, *operator_service_, control::SocketSettings{settings_.control_path, settings_.control_mode, settings_.control_group,
+                                                   settings_.control_request_timeout, settings_.control_max_clients});
     if (auto opened = control_server_->open(); !opened) {
         log()->error("{}", opened.error());
         return kBadConfig;
@@ -141,6 +148,7 @@ void Daemon::start_threads() {
     if (red_link_) add_receiver(*red_link_, master::LinkRole::Red);
 
     cycle_thread_->start();
+    if (tap_bridge_) tap_bridge_->start();
 
     event_thread_ = std::thread([this] { pump_events(); });
 }
@@ -155,6 +163,7 @@ void Daemon::stop_threads() {
     hot_connect_.reset();
     if (cycle_thread_) cycle_thread_->stop();
     for (auto& r : receive_threads_) r->stop();
+    if (tap_bridge_) tap_bridge_->stop();
     if (event_thread_.joinable()) event_thread_.join();
 }
 
@@ -187,7 +196,7 @@ int Daemon::open_redundancy() {
     if (!settings_.redundancy.enabled) return kOk;
     const auto& r = settings_.redundancy;
     redundancy::RedundancyOptions options;
-    options.start_active = r.start_active;
+    options.partner_silence = r.partner_silence;
     auto& p = options.parameters;
     p.eni_content_hash = eni_->content_hash;
     p.cycle_time = master_->options().cycle_time;
@@ -205,7 +214,29 @@ int Daemon::open_redundancy() {
     }
     redundancy_ = std::move(*created);
     redundancy_->set_on_role_change([this](const redundancy::RoleChange& change) { on_role_change(change); });
+
+    supervisor::SupervisorOptions decisions;
+    decisions.cycle_time = master_->options().cycle_time;
+    decisions.comm_timeout = r.comm_timeout;
+    decisions.partner_silence = r.partner_silence;
+    decisions.start_active = r.start_active;
+    decisions.start_in_forced_standby = r.start_in_forced_standby;
+    decisions.takeover_from_differing_partner = r.takeover_from_differing_partner;
+    decisions.arbitration.listen_time = r.listen_time;
+    decisions.arbitration.backoff_min = r.backoff_min;
+    decisions.arbitration.backoff_max = r.backoff_max;
+    supervisor_ = std::make_unique<supervisor::Supervisor>(decisions, random_, events_);
+    redundancy_->set_role_decider(supervisor_.get());
     topology_verifier_ = std::make_unique<redundancy::TopologyVerifier>(eni_, master_->bus(), events_);
+    if (settings_.tap) {
+        auto bridge = tap_bridge::TapBridge::open(*settings_.tap);
+        if (!bridge) {
+            log()->error("{}", bridge.error());
+            return kLinkFailure;
+        }
+        tap_bridge_ = std::move(*bridge);
+        redundancy_->set_acyclic_channel(&tap_bridge_->channel());
+    }
     return kOk;
 }
 
@@ -262,13 +293,20 @@ void Daemon::on_role_change(const redundancy::RoleChange& change) {
             hot_connect_->set_active(false);
             return;  // sequences stop on their own (bus refused)
         }
+        const auto target = *sequencer::to_master_state(settings_.target_state);
+        // Mailbox messages go on from where the partner's counters stopped.
+        state_machine_->continue_mailbox_counters(redundancy_->partner_mailbox_counters());
         if (change.hot) {
-            if (const auto state = sequencer::to_master_state(change.master_state)) state_machine_->adopt(*state);
+            const auto state = sequencer::to_master_state(change.master_state);
+            if (state) state_machine_->adopt(*state);
             topology_verifier_->verify(master_->slaves().snapshot());
+            // A topology change the partner had under way is finished here.
             hot_connect_->after_takeover();
+            // Taken over during a transition (start-up, a state change): finish it here.
+            if (state != target) state_machine_->request(target);
         } else {
             hot_connect_->set_active(true);
-            state_machine_->request(*sequencer::to_master_state(settings_.target_state));
+            state_machine_->request(target);
         }
     });
 }
@@ -288,24 +326,30 @@ void Daemon::on_cycle(master::ProcessImage& image, const master::CycleInfo& info
 
 int Daemon::run() {
     start_threads();
-    // A pair member that starts INACTIVE waits for its role: its partner drives the slaves.
-    if (!redundancy_ || redundancy_->state() == redundancy::RedState::Active) {
-        state_machine_->request(*sequencer::to_master_state(settings_.target_state));
-    }
+    // A pair member starts INACTIVE: its supervisor decides when it owns the bus
+    // (the role change then starts the state machine).
+    if (!redundancy_) state_machine_->request(*sequencer::to_master_state(settings_.target_state));
+
+    if (link_guard_) link_guard_->start_heartbeat();
+    service_notifier_ = systemd::ServiceNotifier::from_environment(io_, [this] { return master_->cycle(); },
+                                                                    [this] { return service_status(); });
 
     boost::asio::signal_set signals(io_, SIGINT, SIGTERM);
     signals.async_wait([this](const boost::system::error_code& ec, int signal) {
         if (!ec) log()->info("signal {}: stopping", signal);
+        service_notifier_->stopping();
         io_.stop();
     });
     // The monitor keeps its fd; asio must not close it.
     link_fd_.emplace(io_, ::dup(link_monitor_->selectable_fd()));
     watch_links();
+    service_notifier_->ready();
     io_.run();
 
     const auto timing = cycle_thread_->timing();
     const auto stats = master_->stats();
     stop_threads();
+    if (link_guard_) link_guard_->shutdown();  // stopped sending: now the links go down
     log()->info("{} cycles ({} late, {} skipped, wake-up latency p99 {} µs, max {} µs), {} frames sent, {} lost, "
                 "{} late copies, {} incomplete cycles, {} WKC errors",
                 timing.cycles, timing.late, timing.skipped, timing.latency_percentile_us(99.0),

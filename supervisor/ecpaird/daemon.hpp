@@ -19,6 +19,7 @@
 #include "ecpair/hotconnect/hot_connect.hpp"
 #include "ecpair/eni/model.hpp"
 #include "ecpair/link/link_state_monitor.hpp"
+#include "ecpair/linkguard/link_guard.hpp"
 #include "ecpair/link/pcap_link.hpp"
 #include "ecpair/master/cycle_thread.hpp"
 #include "ecpair/master/master.hpp"
@@ -27,6 +28,11 @@
 #include "ecpair/redundancy/topology_verifier.hpp"
 #include "ecpair/sequencer/master_state_machine.hpp"
 #include "ecpair/sequencer/slave_monitor.hpp"
+#include "ecpair/arbitration/random_source.hpp"
+#include "ecpair/supervisor/supervisor.hpp"
+#include "ecpair/tap_bridge/tap_bridge.hpp"
+#include "ecpair/systemd/service_notifier.hpp"
+#include "link_guard_resume_policy.hpp"
 #include "operator_service.hpp"
 
 namespace ecpair::daemon {
@@ -55,6 +61,9 @@ private:
     int open_links();
     int open_redundancy();
     void open_hot_connect();
+    int open_link_guard();          // daemon_ops.cpp
+    std::unique_ptr<LinkGuardResumePolicy> make_link_guard_policy();  // daemon_ops.cpp
+    std::string service_status() const;  // daemon_ops.cpp: one line for systemd
     void on_role_change(const redundancy::RoleChange& change);
     void on_sequence_done(const sequencer::SequenceResult& result);
     void on_cycle(master::ProcessImage& image, const master::CycleInfo& info);
@@ -72,7 +81,10 @@ private:
     std::unique_ptr<hotconnect::MasterHost> hot_connect_host_;
     std::unique_ptr<hotconnect::HotConnect> hot_connect_;
     std::unique_ptr<HotConnectService> hot_connect_service_;
+    std::unique_ptr<tap_bridge::TapBridge> tap_bridge_;  // only with a tap block; outlives the controller
     std::unique_ptr<redundancy::RedundancyController> redundancy_;  // only in a redundant pair
+    arbitration::SystemRandom random_;
+    std::unique_ptr<supervisor::Supervisor> supervisor_;            // decides the pair member's role
     std::unique_ptr<redundancy::TopologyVerifier> topology_verifier_;
     std::unique_ptr<master::CycleThread> cycle_thread_;
     std::vector<std::unique_ptr<master::ReceiveThread>> receive_threads_;
@@ -85,6 +97,11 @@ private:
     std::optional<boost::asio::posix::stream_descriptor> link_fd_;
     std::thread event_thread_;
     std::atomic<bool> stopping_{false};
+
+    // Operations (daemon_ops.cpp): after io_, which they use.
+    std::unique_ptr<linkguard::LinkGuard> link_guard_;  // only with link_guard.enabled
+    std::unique_ptr<LinkGuardResumePolicy> link_guard_policy_;
+    std::unique_ptr<systemd::ServiceNotifier> service_notifier_;
 };
 
 }  // namespace ecpair::daemon

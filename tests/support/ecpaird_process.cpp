@@ -1,5 +1,7 @@
 #include "ecpaird_process.hpp"
 
+#include <signal.h>
+
 #include <algorithm>
 #include <fstream>
 #include <stdexcept>
@@ -25,12 +27,17 @@ EcpairdProcess::EcpairdProcess(const TestNamespace& ns, EcpairdSettings settings
             << "cable_redundancy: " << (settings_.cable_redundancy ? "true" : "false") << "\n";
         if (settings_.cable_redundancy && settings_.split_lrw) out << "split_lrw: true\n";
         out << "demo { kind: " << settings_.demo << " }\n"
-            << "control { path: \"" << socket().string() << "\" }\n"
+            << "control { path: \"" << socket().string() << "\" " << settings_.control_extra << " }\n"
             << "log_level: \"debug\"\n"
             << settings_.extra_config << "\n";
     }
+    std::filesystem::remove(socket());
     process_.emplace(std::vector<std::string>{ecpaird_binary(), "--config", config().string()},
                      settings_.dir / (settings_.name + ".log"), &ns);
+    if (settings_.wait_until_ready) wait_ready();
+}
+
+void EcpairdProcess::wait_ready() {
     const auto give_up = std::chrono::steady_clock::now() + kStartGuard;
     while (!std::filesystem::exists(socket())) {
         if (!process_->running() || std::chrono::steady_clock::now() > give_up) {
@@ -39,6 +46,8 @@ EcpairdProcess::EcpairdProcess(const TestNamespace& ns, EcpairdSettings settings
         std::this_thread::sleep_for(std::chrono::milliseconds(10));
     }
 }
+
+void EcpairdProcess::signal(int signal_number) const { ::kill(process_->pid(), signal_number); }
 
 control::StatusReply EcpairdProcess::status(std::uint32_t variables) const {
     control::Request request;
@@ -61,20 +70,34 @@ std::optional<control::StatusReply> EcpairdProcess::wait_for(
     }
 }
 
-std::string EcpairdProcess::request_state(const std::string& state) const {
-    control::Request request;
-    request.mutable_set_master_state()->set_state(state);
+std::string EcpairdProcess::command(const control::Request& request) const {
     auto response = control::call(socket().string(), request);
     if (!response) return response.error().message;
     return response->ok() ? std::string() : response->error();
 }
 
+std::string EcpairdProcess::request_state(const std::string& state) const {
+    control::Request request;
+    request.mutable_set_master_state()->set_state(state);
+    return command(request);
+}
+
 std::string EcpairdProcess::request_red_state(const std::string& state) const {
     control::Request request;
     request.mutable_set_red_state()->set_state(state);
-    auto response = control::call(socket().string(), request);
-    if (!response) return response.error().message;
-    return response->ok() ? std::string() : response->error();
+    return command(request);
+}
+
+std::string EcpairdProcess::switchover() const {
+    control::Request request;
+    request.mutable_switchover();
+    return command(request);
+}
+
+std::string EcpairdProcess::force_standby(bool forced) const {
+    control::Request request;
+    request.mutable_force_standby()->set_forced(forced);
+    return command(request);
 }
 
 control::Response EcpairdProcess::call(const control::Request& request) const {

@@ -28,17 +28,24 @@ struct EcpairdSettings {
     bool split_lrw = true;
     std::string demo = "LOOPBACK_CHECK";
     std::string extra_config;  // more textproto lines
+    std::string control_extra;  // more fields of `control { ... }` (the path is set already)
+    bool wait_until_ready = true;  // false: the constructor returns at once (call wait_ready())
 };
 
 class EcpairdProcess {
 public:
     EcpairdProcess(const TestNamespace& ns, EcpairdSettings settings);
+    // Waits (bounded) for the operator socket; throws with the log when the daemon does not come up.
+    void wait_ready();
 
     std::filesystem::path socket() const { return settings_.dir / (settings_.name + ".sock"); }
     std::filesystem::path config() const { return settings_.dir / (settings_.name + ".textproto"); }
     std::string log() const { return process_->log(); }
     bool running() { return process_->running(); }
     int stop() { return process_->stop(); }
+    std::optional<int> wait_for_exit(std::chrono::milliseconds timeout) { return process_->wait_for_exit(timeout); }
+    // Sends a signal to the daemon (SIGKILL, SIGSTOP, SIGCONT...).
+    void signal(int signal_number) const;
 
     // Throws std::runtime_error when the daemon does not answer.
     control::StatusReply status(std::uint32_t variables = 0) const;
@@ -49,11 +56,19 @@ public:
     std::string request_state(const std::string& state) const;
     // Asks for ACTIVE or INACTIVE; empty when accepted.
     std::string request_red_state(const std::string& state) const;
+    // A zero-loss hand-off (ecpairctl switchover); empty when accepted.
+    std::string switchover() const;
+    // Forces this member to standby, or releases it; empty when accepted.
+    std::string force_standby(bool forced) const;
     control::ImageHistoryReply image_history() const;
     // Any request; the response as it came (throws when the daemon does not answer).
     control::Response call(const control::Request& request) const;
 
+    pid_t pid() const { return process_->pid(); }
+
 private:
+    std::string command(const control::Request& request) const;  // empty when accepted, else the error
+
     EcpairdSettings settings_;
     std::optional<ChildProcess> process_;
 };

@@ -121,6 +121,8 @@ std::string execute_control_request(Segment& segment, const ControlRequest& requ
         case ControlCommand::SetSelector:
             return outcome(segment.set_legacy_id_selector(k, request.value),
                            fmt::format("slave {} ETG.1020 ID selector {} (read at its next power-on)", k, request.value));
+        case ControlCommand::Impair:
+            return control_error("impair acts on ecsim's cables, not on the segment: send it to a running ecsim");
     }
     return control_error("unhandled command");
 }

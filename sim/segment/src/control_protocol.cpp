@@ -26,7 +26,7 @@ struct CommandSyntax {
     std::array<Arg, 3> kinds;
 };
 
-constexpr std::array<CommandSyntax, 18> kSyntax{{
+constexpr std::array<CommandSyntax, 19> kSyntax{{
     {ControlCommand::Status, "status", "", 0, {}},
     {ControlCommand::Help, "help", "", 0, {}},
     {ControlCommand::PowerOff, "power-off", "K", 1, {Arg::Position}},
@@ -45,9 +45,10 @@ constexpr std::array<CommandSyntax, 18> kSyntax{{
     {ControlCommand::PlugDuplicate, "plug-duplicate", "K J PORT", 3, {Arg::Position, Arg::At, Arg::Port}},
     {ControlCommand::RefuseState, "refuse-state", "K STATE", 2, {Arg::Position, Arg::State}},
     {ControlCommand::SetSelector, "set-selector", "K VALUE", 2, {Arg::Position, Arg::Value}},
+    {ControlCommand::Impair, "impair", "main|red LOSS% DUP% DELAY_US", 4, {}},  // parsed by parse_impairment
 }};
 
-constexpr std::size_t kMaxWords = 4;
+constexpr std::size_t kMaxWords = 5;
 
 bool is_blank(char c) { return c == ' ' || c == '\t'; }
 
@@ -102,6 +103,30 @@ std::string single_line(std::string_view text) {
     return out;
 }
 
+// impair SIDE LOSS DUP DELAY (the word count is checked already).
+Expected<ControlRequest, ControlParseError> parse_impairment(ControlRequest request,
+                                                            const std::array<std::string_view, kMaxWords>& words) {
+    if (words[1] != "main" && words[1] != "red") {
+        return unexpected(ControlParseError{fmt::format("impair: SIDE must be main or red, got '{}'", printable(words[1]))});
+    }
+    request.red_side = words[1] == "red";
+    const auto loss = parse_number(words[2], false, 100);
+    const auto duplicate = parse_number(words[3], false, 100);
+    const auto delay = parse_number(words[4], false, 100'000);
+    if (!loss || !duplicate) {
+        return unexpected(ControlParseError{fmt::format("impair: LOSS% and DUP% must be 0..100, got '{}' '{}'",
+                                                        printable(words[2]), printable(words[3]))});
+    }
+    if (!delay) {
+        return unexpected(
+            ControlParseError{fmt::format("impair: DELAY_US must be 0..100000, got '{}'", printable(words[4]))});
+    }
+    request.loss_percent = static_cast<std::uint8_t>(*loss);
+    request.duplicate_percent = static_cast<std::uint8_t>(*duplicate);
+    request.delay_us = *delay;
+    return request;
+}
+
 std::string usage_of(const CommandSyntax& syntax) {
     return syntax.arguments.empty() ? std::string(syntax.word) : fmt::format("{} {}", syntax.word, syntax.arguments);
 }
@@ -153,6 +178,7 @@ Expected<ControlRequest, ControlParseError> parse_control_request(std::string_vi
 
     ControlRequest request;
     request.command = syntax->command;
+    if (syntax->command == ControlCommand::Impair) return parse_impairment(request, words);
     for (int n = 0; n < syntax->argument_count; ++n) {
         const std::string_view word = words[static_cast<std::size_t>(n) + 1];
         const Arg kind = syntax->kinds[static_cast<std::size_t>(n)];

@@ -11,10 +11,15 @@
 //   group-off N | group-on N | plug-group N K PORT | unplug-group N
 //   plug-unknown K PORT | plug-duplicate K J PORT
 //   refuse-state K STATE | set-selector K VALUE
+//   impair SIDE LOSS DUP DELAY
 //
 // K, J and N are decimal numbers (slave positions, a Hot-Connect group);
 // VALUE is decimal or 0x-prefixed hexadecimal, 0..65535; PORT is A..D (or
 // 0..3); STATE is PREOP, SAFEOP, OP or none.
+// impair: the cable on SIDE (main or red) loses LOSS % and duplicates DUP %
+// of the frames crossing it (either way), and delays those entering the
+// segment by DELAY µs (0..100000): netem's job, for kernels without netem.
+// impair SIDE 0 0 0 ends it.
 // Words are separated by spaces or tabs; a trailing CR is ignored.
 
 #include <cstddef>
@@ -45,6 +50,7 @@ enum class ControlCommand : std::uint8_t {
     PlugDuplicate,
     RefuseState,
     SetSelector,
+    Impair,
 };
 
 std::string_view to_string(ControlCommand command);  // the request word, "power-off"
@@ -57,6 +63,11 @@ struct ControlRequest {
     std::size_t at = 0;        // J (plug-duplicate), K (plug-group)
     int port = 0;              // PORT, 0..3
     std::uint8_t state = 0;    // STATE as an AL state (2, 4, 8), 0 for none
+    // impair
+    bool red_side = false;
+    std::uint8_t loss_percent = 0;
+    std::uint8_t duplicate_percent = 0;
+    std::uint32_t delay_us = 0;
 
     friend bool operator==(const ControlRequest&, const ControlRequest&) = default;
 };

@@ -10,6 +10,7 @@
 
 #include "ecpair/common/expected.hpp"
 #include "ecpair/eni/model.hpp"
+#include "ecpair/tap_bridge/tap_bridge.hpp"
 
 namespace ecpair::config {
 
@@ -22,6 +23,18 @@ struct RedundancySettings {
     std::uint32_t master_pd_in_size = 0;
     bool update_slave_pd_in = true;
     bool update_slave_pd_out = true;
+    std::chrono::milliseconds comm_timeout{50};
+    std::chrono::milliseconds listen_time{200};
+    std::chrono::milliseconds backoff_min{1};
+    std::chrono::milliseconds backoff_max{10};
+    std::chrono::milliseconds partner_silence{100};
+    bool start_in_forced_standby = false;
+    bool takeover_from_differing_partner = false;
+};
+
+struct LinkGuardSettings {
+    bool enabled = false;
+    std::chrono::milliseconds hang_timeout{50};
 };
 
 enum class HotConnectMode : std::uint8_t { Automatic, ManualPreop, ManualNoReset };
@@ -47,10 +60,14 @@ struct DaemonSettings {
     std::string control_path;
     std::uint32_t control_mode = 0660;
     std::string control_group;
+    std::chrono::milliseconds control_request_timeout{5000};
+    std::uint32_t control_max_clients = 2048;
     std::uint32_t max_acyclic_frames_per_cycle = 2;
     int realtime_priority = 80;
     std::string log_level = "info";
     RedundancySettings redundancy;
+    LinkGuardSettings link_guard;
+    std::optional<tap_bridge::TapBridgeOptions> tap;  // the TAP bridge, when configured
     HotConnectSettings hot_connect;
 };
 
