@@ -423,7 +423,8 @@ TEST_CASE("ecpairctl status: a Hot-Connect line and a hot_connect object", "[ctl
                               Catch::Contains("1 MISMATCH(ES) (ecpairctl groups)"));
     const auto r = run(run_status_command, {"--socket", f.path, "--json"});
     REQUIRE(r.code == kExitOk);
-    const auto& h = field(parse_json(r.out), "hot_connect").struct_value();
+    const auto json = parse_json(r.out);
+    const auto& h = field(json, "hot_connect").struct_value();
     CHECK(field(h, "mode").string_value() == "automatic");
     CHECK(field(h, "slaves_on_bus").number_value() == 3);
 }
