@@ -189,7 +189,12 @@ private:
         }
         if (must_take(configured) && verdict.match == SlaveMatch::WrongIdentity && spliced_in_front(configured, q)) {
             // An unknown slave cut into the cable in front of it: the slave behind matches.
-            unexpected(q, parent, port, resemblance(q), /*with_subtree=*/false);
+            const auto& info = eni_.slaves[configured].info;
+            auto note = resemblance(q);
+            if (!note.empty()) note += "; ";
+            note += fmt::format("cut into the cable in front of '{}' vendor 0x{:08x} product 0x{:08x}, found behind it",
+                                info.name, info.vendor_id, info.product_code);
+            unexpected(q, parent, port, std::move(note), /*with_subtree=*/false);
             const int next_port = first_downstream_port(q);
             const std::uint16_t r = next_++;
             found_at(configured, q, next_port, r);
@@ -305,7 +310,12 @@ private:
     // A configured slave (and its configured subtree) that is not on the bus.
     void mark_not_found(std::size_t configured) {
         if (decided_[configured]) return;
-        auto c = base(configured, next_);
+        // Where it would be: right behind its parent when the parent is on the bus.
+        std::uint16_t where = next_;
+        if (const auto& a = topology_.attachment(configured); a && result_.position[a->parent]) {
+            where = static_cast<std::uint16_t>(*result_.position[a->parent] + 1);
+        }
+        auto c = base(configured, where);
         const bool optional = groups_.is_optional(configured);
         // A member of a group whose head is there is missing, not absent.
         const auto group = groups_.group_of(configured);
@@ -335,12 +345,38 @@ private:
                 break;
             }
             if (placed) continue;
+            // The fragment may begin further down: the unresolved slave itself is gone
+            // (powered off), the slaves configured behind it are reached from the other end.
+            if (const auto behind = behind_unresolved(q)) {
+                accept(*behind, std::nullopt, 0, q, judge(*behind, q));
+                continue;
+            }
             if (const auto floating = floating_candidate(q)) {
                 accept(*floating, std::nullopt, 0, q, judge(*floating, q));
                 continue;
             }
             unexpected(q, std::nullopt, 0, resemblance(q));
         }
+    }
+
+    // A slave configured behind an unresolved one (not decided yet) that matches position q.
+    std::optional<std::size_t> behind_unresolved(std::uint16_t q) {
+        std::vector<std::size_t> stack(unresolved_.rbegin(), unresolved_.rend());
+        std::vector<bool> seen(eni_.slaves.size(), false);
+        while (!stack.empty()) {
+            const auto slave = stack.back();
+            stack.pop_back();
+            if (seen[slave]) continue;
+            seen[slave] = true;
+            for (auto port = eni::kDownstreamPorts.rbegin(); port != eni::kDownstreamPorts.rend(); ++port) {
+                const auto child = topology_.child(slave, *port);
+                if (!child || decided_[*child]) continue;
+                stack.push_back(*child);
+            }
+            const bool is_unresolved = std::find(unresolved_.begin(), unresolved_.end(), slave) != unresolved_.end();
+            if (!is_unresolved && !decided_[slave] && judge(slave, q).match == SlaveMatch::Match) return slave;
+        }
+        return std::nullopt;
     }
 
     TopologyMatch finish() {
