@@ -11,7 +11,11 @@
 //       change of the master whose process data reached the slaves, with the
 //       time the slaves went without process data (in ms and, with the cycle
 //       time, in cycles), and the cycles the masters' CMFs numbered that no
-//       master or two masters sent.
+//       master or two masters sent. Changes that follow each other within
+//       five cycles (both masters delivering at once: the two halves of a
+//       double line break, or a collision) are one "two masters" period,
+//       not a series of takeovers; a single frame of one master amid the
+//       other's is reported as a stray frame.
 //   cadence SEGMENT.pcap FROM_US TO_US CYCLE_US
 //       The cyclic frames at the slaves in a time window (Unix µs), for the
 //       Hot-Connect benchmark: the MAIN copies of process-data frames as they
@@ -101,21 +105,43 @@ int gaps(const std::string& file, double cycle_us) {
         return 2;
     }
     const auto handovers = capture->handovers();
-    std::vector<double> all;
     const double first = capture->first_us();
-    for (std::size_t i = 0; i < handovers.size(); ++i) {
-        const auto& h = handovers[i];
-        all.push_back(h.gap_us);
-        std::printf("takeover %zu at %.3f s: %06x -> %06x, %.2f ms without process data", i + 1,
-                    (h.at_us - first) / 1e6, h.from, h.to, h.gap_us / 1000.0);
+    const double together_us = 5 * (cycle_us > 0 ? cycle_us : 1000.0);
+    const auto seconds = [first](double us) { return (us - first) / 1e6; };
+    std::vector<double> takeover_gaps;
+    std::size_t takeovers = 0;
+    for (std::size_t i = 0; i < handovers.size();) {
+        // A run of changes each within together_us of the one before it.
+        std::size_t end = i + 1;
+        while (end < handovers.size() && handovers[end].at_us - handovers[end - 1].at_us <= together_us) ++end;
+        if (end - i >= 3) {
+            std::printf("two masters delivering from %.3f s to %.3f s (%zu changes): a double line break or a "
+                        "collision; then %06x alone\n",
+                        seconds(handovers[i].at_us), seconds(handovers[end - 1].at_us), end - i, handovers[end - 1].to);
+            i = end;
+            continue;
+        }
+        if (end - i == 2 && handovers[i].from == handovers[i + 1].to) {
+            // One delivery attributed to the other master amid this one's: not a takeover.
+            std::printf("a stray frame from %06x amid %06x's at %.3f s\n", handovers[i].to, handovers[i].from,
+                        seconds(handovers[i].at_us));
+            i = end;
+            continue;
+        }
+        const auto& h = handovers[i++];
+        takeover_gaps.push_back(h.gap_us);
+        std::printf("takeover %zu at %.3f s: %06x -> %06x, %.2f ms without process data", ++takeovers, seconds(h.at_us),
+                    h.from, h.to, h.gap_us / 1000.0);
         if (cycle_us > 0) std::printf(" (%.1f cycles)", h.gap_us / cycle_us);
         std::printf("\n");
     }
-    if (!all.empty()) {
-        std::printf("takeovers: %zu, gap min %.2f ms, p50 %.2f ms, max %.2f ms\n", all.size(),
-                    *std::min_element(all.begin(), all.end()) / 1000.0, percentile(all, 50) / 1000.0,
-                    *std::max_element(all.begin(), all.end()) / 1000.0);
+    if (!takeover_gaps.empty()) {
+        std::printf("takeovers: %zu, gap min %.2f ms, p50 %.2f ms, max %.2f ms (times from the first process data)\n",
+                    takeover_gaps.size(), *std::min_element(takeover_gaps.begin(), takeover_gaps.end()) / 1000.0,
+                    percentile(takeover_gaps, 50) / 1000.0,
+                    *std::max_element(takeover_gaps.begin(), takeover_gaps.end()) / 1000.0);
     }
+    std::printf("longest time without process data: %.2f ms\n", capture->longest_gap_us() / 1000.0);
     std::printf("cycles no master numbered: %zu; cycles two masters numbered: %zu\n", capture->missing_cycles().size(),
                 capture->doubled_cycles().size());
     return 0;

@@ -21,6 +21,7 @@
 
 #include <fmt/format.h>
 
+#include "bench_args.hpp"
 #include "bench_stats.hpp"
 #include "ecpair/link/link_admin.hpp"
 #include "ecpair/link/link_state_monitor.hpp"
@@ -76,9 +77,10 @@ void wait_running(EcpairdProcess& m1) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    const int runs = argc > 1 ? std::stoi(argv[1]) : 30;
-    const int hangs = argc > 2 ? std::stoi(argv[2]) : 10;
-    const int seconds = argc > 3 ? std::stoi(argv[3]) : 60;
+    constexpr const char* kUsage = "ecpair-link-guard-bench [RUNS] [HANGS] [SECONDS]   (defaults: 30 10 60)";
+    const int runs = ecpair::bench::positional_count(argc, argv, 1, 30, kUsage);
+    const int hangs = ecpair::bench::positional_count(argc, argv, 2, 10, kUsage);
+    const int seconds = ecpair::bench::positional_count(argc, argv, 3, 60, kUsage);
     TempDir dir{"ecpair-guard-bench"};
     RingTopology topology(Controllers::Single);
     EcsimProcess ecsim(topology.sim(), {kEni, "sim-main", std::string("sim-red"), dir.path(), 70});

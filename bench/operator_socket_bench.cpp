@@ -16,6 +16,7 @@
 
 #include <fmt/format.h>
 
+#include "bench_args.hpp"
 #include "ecpair/control/delimited.hpp"
 #include "ecpair/sim/eni_generator.hpp"
 #include "ecpaird_process.hpp"
@@ -57,8 +58,9 @@ Window measure(const EcpairdProcess& m1, int seconds) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    const int seconds = argc > 1 ? std::stoi(argv[1]) : 60;
-    const int clients = argc > 2 ? std::stoi(argv[2]) : 1000;
+    constexpr const char* kUsage = "ecpair-operator-socket-bench [SECONDS] [CLIENTS]   (defaults: 60 1000)";
+    const int seconds = ecpair::bench::positional_count(argc, argv, 1, 60, kUsage);
+    const int clients = ecpair::bench::positional_count(argc, argv, 2, 1000, kUsage);
     rlimit limit{};
     ::getrlimit(RLIMIT_NOFILE, &limit);
     limit.rlim_cur = std::min<rlim_t>(limit.rlim_max, static_cast<rlim_t>(clients) + 1024);

@@ -1,9 +1,13 @@
 # The configuration of one member of the pair in the design.md topology
 # (interfaces NAME-main / NAME-red, 1 ms, cable redundancy with LRW split,
 # 8 bytes of master process data each way), for the demo and the benchmarks.
-# Source this file.
+# No initial role unless one is given: the members' supervisors decide
+# (listen, then take over or stand by); the link guard is on (a pair's
+# default). Source this file.
 
-pair_member_config() {  # name initial-state eni control-dir demo-line [extra-line]
+pair_member_config() {  # name initial-state|"" eni control-dir demo-line [extra-line]
+  local role=""
+  [ -n "$2" ] && role="initial_state: $2 "
   cat <<CONF
 name: "$1"
 interfaces { main: "$1-main" red: "$1-red" }
@@ -13,7 +17,7 @@ cable_redundancy: true
 split_lrw: true
 $5
 control { path: "$4/$1.sock" }
-redundancy { enabled: true initial_state: $2 master_pd_out_size: 8 master_pd_in_size: 8 }
+redundancy { enabled: true ${role}master_pd_out_size: 8 master_pd_in_size: 8 }
 ${6:-}
 CONF
 }

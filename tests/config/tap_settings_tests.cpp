@@ -25,7 +25,7 @@ std::string error_of(const std::string& text) {
 
 }  // namespace
 
-TEST_CASE("no tap block, no bridge; an empty one gets the defaults", "[config][tap_bridge]") {
+TEST_CASE("no tap block, no bridge - an empty one gets the defaults", "[config][tap_bridge]") {
     auto none = parse_daemon_settings(pair_config(""));
     REQUIRE(none);
     CHECK_FALSE(none->tap.has_value());

@@ -104,7 +104,7 @@ TEST_CASE("PREOP needs the mailbox SyncManagers as the SII says (else 0x0016)") 
     }
 }
 
-TEST_CASE("a pending error ignores requests until acknowledged; INIT is always accepted") {
+TEST_CASE("a pending error ignores requests until acknowledged - INIT is always accepted") {
     Slave slave(drive_description());
     slave.request(kPreop);
     REQUIRE(slave.status() == (kInit | kError));
@@ -207,7 +207,7 @@ TEST_CASE("an undefined state value reports 0x0012") {
     CHECK(running.code() == 0x0012);
 }
 
-TEST_CASE("BOOT: only from and to INIT, with the bootstrap mailbox; 0x0013 without one") {
+TEST_CASE("BOOT: only from and to INIT, with the bootstrap mailbox - 0x0013 without one") {
     Slave slave(drive_description());
     slave.write(0x0800, kMailboxSms);  // the bootstrap mailbox has the same areas
     slave.request(kBoot);
@@ -267,7 +267,7 @@ TEST_CASE("explicit device identification puts the ID into 0x0134 and sets statu
     }
 }
 
-TEST_CASE("without an ID selector the device ID is the station alias; none at all loads nothing") {
+TEST_CASE("without an ID selector the device ID is the station alias - none at all loads nothing") {
     auto aliased = drive_description();
     aliased.alias = 0x0777;
     Slave slave(std::move(aliased));
@@ -301,7 +301,7 @@ TEST_CASE("changing a SyncManager in PREOP/SAFEOP/OP is checked like SOES does")
     }
 }
 
-TEST_CASE("an AL status change raises the ECAT event; reading AL status clears it") {
+TEST_CASE("an AL status change raises the ECAT event - reading AL status clears it") {
     Slave slave(drive_description());
     slave.line.transact(physical_read(Command::Fprd, slave.station, 0x0130, 2));
     CHECK((slave.line.fprd(slave.station, 0x0210, 2)[0] & 0x08) == 0);

@@ -54,7 +54,7 @@ TEST_CASE("a write to 0x0900 latches the frame's receive time at every port") {
     CHECK(u32(line.fprd(0x1001, 0x0904, 4)) == static_cast<std::uint32_t>(t + 500));
 }
 
-TEST_CASE("ARMW on 0x0910 distributes the reference time; the others put the difference into 0x092C") {
+TEST_CASE("ARMW on 0x0910 distributes the reference time - the others put the difference into 0x092C") {
     Line line({drive_description(), drive_description(), drive_description()});
     line.assign_station_addresses();
     line.fpwr(0x1002, 0x0928, le32(100));

@@ -35,7 +35,7 @@ TEST_CASE("DL status: 0x5A for a middle slave, 0x56 for the last, 0x55 with ever
     CHECK_FALSE(lonely.port_open(1));
 }
 
-TEST_CASE("ports open and close with the link under Auto; not implemented ports stay closed") {
+TEST_CASE("ports open and close with the link under Auto - not implemented ports stay closed") {
     Esc esc(coupler_description());
     CHECK(esc.port_count() == 3);
     CHECK(esc.port_implemented(2));
@@ -155,7 +155,7 @@ TEST_CASE("the processing unit sets the source MAC's locally administered bit wh
     CHECK(line[0].process_non_ethercat() == EpuVerdict::Forward);
 }
 
-TEST_CASE("lost links of open Auto ports are counted; writing a counter clears its group") {
+TEST_CASE("lost links of open Auto ports are counted - writing a counter clears its group") {
     Line line({drive_description(), drive_description()});
     line.assign_station_addresses();
     line[0].set_physical_link(1, false);

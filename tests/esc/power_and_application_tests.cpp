@@ -49,7 +49,7 @@ std::uint16_t counter_of(const std::vector<std::uint8_t>& inputs) {
 
 }  // namespace
 
-TEST_CASE("power off: frames die and the ports close; power on: registers reset, the SII is kept") {
+TEST_CASE("power off: frames die and the ports close - power on: registers reset, the SII is kept") {
     Line line({drive_description(), drive_description()});
     line.assign_station_addresses();
     line.fpwr(0x1001, 0x0F80, bytes({0x42}));

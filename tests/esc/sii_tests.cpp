@@ -160,7 +160,7 @@ TEST_CASE("an EEPROM write needs the write enable bit in the same frame") {
     CHECK(sii.word(last_word) == 0xBEEF);
 }
 
-TEST_CASE("reload re-checks the configuration area; the alias is taken over only at power-on") {
+TEST_CASE("reload re-checks the configuration area - the alias is taken over only at power-on") {
     auto description = drive_description();
     description.alias = 0x0100;
     Line line({description});
@@ -221,7 +221,7 @@ TEST_CASE("an unknown command or an address past the EEPROM sets the command err
     CHECK((sii_status(line) & 0x2000) != 0);
 }
 
-TEST_CASE("set_eeprom_alias rewrites word 4 and the checksum; the alias shows after a power cycle") {
+TEST_CASE("set_eeprom_alias rewrites word 4 and the checksum - the alias shows after a power cycle") {
     Esc esc(drive_description());
     esc.set_eeprom_alias(0x4242);
     CHECK(load_le<std::uint16_t>(esc.sii_image(), 8) == 0x4242);

@@ -57,7 +57,7 @@ TEST_CASE("the master mailbox takes one complete write, then refuses writes unti
     CHECK((line.fprd(kFirstStation, 0x080D, 1)[0] & 0x08) == 0x08);
 }
 
-TEST_CASE("a mailbox access has to start at the first byte; the last byte completes it") {
+TEST_CASE("a mailbox access has to start at the first byte - the last byte completes it") {
     Line line = drive_in_preop();
     const auto request = coe_request(1);
     const std::vector<std::uint8_t> first(request.begin(), request.begin() + 64);
@@ -69,7 +69,7 @@ TEST_CASE("a mailbox access has to start at the first byte; the last byte comple
     CHECK((line.fprd(kFirstStation, 0x080D, 1)[0] & 0x08) == 0x08);
 }
 
-TEST_CASE("the slave mailbox can be read only while full; reading it completely empties it") {
+TEST_CASE("the slave mailbox can be read only while full - reading it completely empties it") {
     Line line = drive_in_preop();
     CHECK(line.transact(physical_read(Command::Fprd, kFirstStation, kSm1, 128)).wkc == 0);
     line.fpwr(kFirstStation, kSm0, coe_request(1));

@@ -2,7 +2,9 @@
 // one is no hang; hang_timeout without one takes the links down once; a
 // heartbeat whose cycle did not advance does not count; links stay down
 // when heartbeats resume until ecpaird asks; end-of-file and shutdown take
-// them down and finish; failures are reported with the errno.
+// them down and finish; failures are reported with the errno; a stall of the
+// whole machine (the guard's own look late) is no hang. Time passes as the
+// guard program lets it: advance() looks at every deadline() on the way.
 
 #include <catch2/catch.hpp>
 
@@ -46,6 +48,11 @@ struct Fixture {
         m.cycle = cycle;
         logic.on_message(m, at);
     }
+    // The guard program's loop: a look at every deadline up to `to`, and one at `to`.
+    void advance(Clock::time_point to) {
+        for (auto due = logic.deadline(); due && *due <= to; due = logic.deadline()) logic.on_time(*due);
+        logic.on_time(to);
+    }
     void command(GuardMessageKind kind, Clock::time_point at) {
         GuardMessage m;
         m.kind = kind;
@@ -77,12 +84,12 @@ TEST_CASE_METHOD(Fixture, "link guard: before the first heartbeat nothing is a h
 TEST_CASE_METHOD(Fixture, "link guard: hang_timeout without a heartbeat takes the links down once", "[linkguard]") {
     beat(100, t0);
     REQUIRE(logic.state() == GuardState::Watching);
-    REQUIRE(logic.deadline() == t0 + 50ms);
-    beat(120, t0 + 20ms);  // pushes the deadline
-    CHECK(logic.deadline() == t0 + 70ms);
-    logic.on_time(t0 + 69ms);
+    REQUIRE(logic.deadline() == t0 + 6250us);  // it looks every hang_timeout / 8
+    beat(120, t0 + 20ms);                      // starts the count again
+    advance(t0 + 69ms);
     CHECK(sets.empty());
-    logic.on_time(t0 + 70ms);
+    CHECK(logic.counted_silence() == 49ms);
+    advance(t0 + 70ms);
     REQUIRE(sets == std::vector<bool>{false});
     REQUIRE(reports.size() == 1);
     CHECK(reports[0].kind == GuardMessageKind::LinksTakenDown);
@@ -96,18 +103,34 @@ TEST_CASE_METHOD(Fixture, "link guard: hang_timeout without a heartbeat takes th
     CHECK(sets.size() == 1);  // once
 }
 
+TEST_CASE_METHOD(Fixture, "link guard: a stall of the whole machine, the guard's own looks late, is no hang",
+                 "[linkguard]") {
+    beat(100, t0);
+    advance(t0 + 10ms);
+    logic.on_time(t0 + 62ms);  // the guard itself stood still 52 ms (ecpaird with it)
+    CHECK(sets.empty());
+    CHECK(logic.counted_silence() == 22500us);  // 10 ms looked, and two look intervals of the stall
+    beat(101, t0 + 63ms);                       // ecpaird's heartbeat, as late as the guard
+    CHECK(logic.counted_silence() == 0ms);
+    advance(t0 + 100ms);
+    CHECK(sets.empty());
+    SECTION("a real hang after it still counts in full") {
+        advance(t0 + 113ms);  // 50 ms after the last heartbeat, the guard looking all along
+        CHECK(sets == std::vector<bool>{false});
+    }
+}
+
 TEST_CASE_METHOD(Fixture, "link guard: a heartbeat whose cycle did not advance does not count", "[linkguard]") {
     beat(100, t0);
     beat(100, t0 + 30ms);
     beat(99, t0 + 40ms);
-    CHECK(logic.deadline() == t0 + 50ms);
-    logic.on_time(t0 + 50ms);
+    advance(t0 + 50ms);
     CHECK(sets == std::vector<bool>{false});
 }
 
 TEST_CASE_METHOD(Fixture, "link guard: links stay down when the cycle resumes, until ecpaird asks", "[linkguard]") {
     beat(100, t0);
-    logic.on_time(t0 + 60ms);
+    advance(t0 + 60ms);
     REQUIRE(logic.state() == GuardState::LinksDown);
     reports.clear();
 
@@ -126,15 +149,18 @@ TEST_CASE_METHOD(Fixture, "link guard: links stay down when the cycle resumes, u
     CHECK(sets == std::vector<bool>{false, true});
     REQUIRE(reports.size() == 2);
     CHECK(reports[1].kind == GuardMessageKind::LinksAreUp);
-    CHECK(reports[1].silence_ms == 2960);  // down from t0 + 60 ms to t0 + 3020 ms
+    CHECK(reports[1].silence_ms == 2970);  // down from t0 + 50 ms to t0 + 3020 ms
     CHECK(logic.state() == GuardState::Watching);
-    CHECK(logic.deadline() == t0 + 3060ms);
+    advance(t0 + 3059ms);  // counted from the last heartbeat, at t0 + 3010 ms
+    CHECK(sets == std::vector<bool>{false, true});
+    advance(t0 + 3060ms);
+    CHECK(sets == std::vector<bool>{false, true, false});
 }
 
 TEST_CASE_METHOD(Fixture, "link guard: links up while the cycle still stands still go down again at once",
                  "[linkguard]") {
     beat(100, t0);
-    logic.on_time(t0 + 50ms);
+    advance(t0 + 50ms);
     command(GuardMessageKind::LinksUp, t0 + 200ms);
     CHECK(sets == std::vector<bool>{false, true, false});
     CHECK(logic.state() == GuardState::LinksDown);
@@ -157,7 +183,7 @@ TEST_CASE_METHOD(Fixture, "link guard: ecpaird gone during start-up or after a h
     SECTION("before any heartbeat") { logic.on_daemon_gone(t0); }
     SECTION("after a hang") {
         beat(100, t0);
-        logic.on_time(t0 + 50ms);
+        advance(t0 + 50ms);
         logic.on_daemon_gone(t0 + 100ms);
         CHECK(sets.size() == 2);
     }
@@ -181,7 +207,7 @@ TEST_CASE_METHOD(Fixture, "link guard: shutdown takes the links down, reports it
 TEST_CASE_METHOD(Fixture, "link guard: a link that cannot be set is reported with its errno", "[linkguard]") {
     fail_red = true;
     beat(100, t0);
-    logic.on_time(t0 + 50ms);
+    advance(t0 + 50ms);
     REQUIRE(reports.size() == 1);
     CHECK(reports[0].links == kMainLink);
     CHECK(reports[0].error == 1);

@@ -178,7 +178,7 @@ TEST_CASE("link guard: kill -9 of ecpaird takes its links down at both ends of b
     REQUIRE(time_until([&] { return nothing_runs_in(topology.m1()); }));
 }
 
-TEST_CASE("link guard: a hang takes the links down after hang_timeout; they come back once the cycle runs",
+TEST_CASE("link guard: a hang takes the links down after hang_timeout - they come back once the cycle runs",
           "[netns][link_guard]") {
     TempDir dir{"ecpair-guard"};
     RingTopology topology(Controllers::Single);
@@ -248,19 +248,25 @@ TEST_CASE("link guard: after a hang an ACTIVE pair member becomes INACTIVE befor
     const auto status = m1.status();
     CHECK(status.redundancy().red_state() == "INACTIVE");
     REQUIRE(m1_events.wait_for("link-guard-links-up", "may drive its links again", kPatience));
-    // The order on m1: links down, the cycle runs again, INACTIVE, links up.
-    const auto kinds = kinds_of(m1_events);
+    // The order on m1: the links go down (the guard, or first the carrier loss
+    // that makes it give up the bus), it steps down to INACTIVE, and only then
+    // the guard brings its links up again.
+    const auto events = m1_events.events();
     INFO(m1_events.dump());
-    const auto at = [&](const std::string& kind, std::size_t from = 0) {
-        return static_cast<std::size_t>(std::find(kinds.begin() + static_cast<long>(from), kinds.end(), kind) - kinds.begin());
+    const auto index_of = [&](const std::string& kind, const std::string& text = {}) {
+        const auto it = std::find_if(events.begin(), events.end(), [&](const auto& e) {
+            return e.kind() == kind && e.text().find(text) != std::string::npos;
+        });
+        return static_cast<std::size_t>(it - events.begin());
     };
-    const auto down = at("link-guard-links-down");
-    const auto inactive = at("red-state-changed", down);
-    const auto up = at("link-guard-links-up", down);
-    REQUIRE(down < kinds.size());
-    REQUIRE(inactive < kinds.size());
+    const auto down = index_of("link-guard-links-down");
+    const auto inactive = index_of("red-state-changed", "ACTIVE -> INACTIVE");
+    const auto up = index_of("link-guard-links-up", "may drive its links again");
+    REQUIRE(down < events.size());
+    REQUIRE(inactive < events.size());
+    REQUIRE(up < events.size());
     CHECK(inactive < up);
-    CHECK(m1_events.wait_for("red-state-changed", "ACTIVE -> INACTIVE", 0ms));
+    CHECK(down < up);
 }
 
 TEST_CASE("link guard: systemd's ExecStopPost line takes the configured links down, unless the guard is off",

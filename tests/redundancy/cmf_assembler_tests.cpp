@@ -95,7 +95,7 @@ TEST_CASE("a part held already is a duplicate and the completed cycle is not com
     CHECK(assembler.counters().completed == 1);
 }
 
-TEST_CASE("a newer cycle abandons the incomplete one; older parts are stale", "[redundancy][cmf]") {
+TEST_CASE("a newer cycle abandons the incomplete one - older parts are stale", "[redundancy][cmf]") {
     const CmfLayout layout = test::small_layout();
     CmfAssembler assembler(test::plan_of(layout));
     auto old_parts = written_parts(layout, 10);
@@ -104,8 +104,11 @@ TEST_CASE("a newer cycle abandons the incomplete one; older parts are stale", "[
     CHECK(feed_ok(assembler, new_parts[1]) == Outcome::Stored);
     CHECK(assembler.counters().abandoned == 1);
     CHECK(feed_ok(assembler, old_parts[2]) == Outcome::Stale);
-    for (std::size_t i : {0u, 2u, 3u}) CHECK(feed_ok(assembler, new_parts[i]) == Outcome::Stored);
-    CHECK(feed_ok(assembler, new_parts[4]) == Outcome::Completed);
+    REQUIRE(new_parts.size() > 3);
+    for (std::size_t i = 0; i + 1 < new_parts.size(); ++i) {
+        if (i != 1) CHECK(feed_ok(assembler, new_parts[i]) == Outcome::Stored);
+    }
+    CHECK(feed_ok(assembler, new_parts.back()) == Outcome::Completed);
     CHECK(assembler.content().cycle == 11);
     // The content stays that of cycle 11 while cycle 12 is being assembled.
     auto next = written_parts(layout, 12);

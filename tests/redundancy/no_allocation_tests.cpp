@@ -1,90 +1,27 @@
 // The frame paths allocate nothing once set up: CmfWriter::write on the
 // cycle thread, and on the receive threads StoreAndForward::on_frame,
-// process_as_inactive and CmfAssembler::feed. Counted by replacing the
-// global operator new in this test binary (its own, so that no other test
-// runs with the replacement).
+// process_as_inactive and CmfAssembler::feed. Counted by the shared
+// allocation counter (tests/support), which replaces the global operator new
+// in this test binary (its own, so that no other test runs with it).
 
 #include <catch2/catch.hpp>
 
-#include <atomic>
+#include <array>
 #include <cstddef>
-#include <cstdlib>
-#include <new>
+#include <vector>
 
+#include "allocation_counter.hpp"
 #include "cmf_test_support.hpp"
 #include "ecpair/link/memory_link.hpp"
 #include "ecpair/redundancy/cyclic_master_red_frame.hpp"
 #include "ecpair/redundancy/store_and_forward.hpp"
-
-namespace {
-
-std::atomic<std::size_t> g_allocations{0};
-
-void* counted_allocation(std::size_t size, std::size_t alignment = 0) {
-    g_allocations.fetch_add(1, std::memory_order_relaxed);
-    if (size == 0) size = 1;
-    if (alignment > alignof(std::max_align_t)) size = (size + alignment - 1) / alignment * alignment;
-    return alignment > alignof(std::max_align_t) ? std::aligned_alloc(alignment, size) : std::malloc(size);
-}
-
-}  // namespace
-
-// Every form of operator new and delete is replaced, so that memory from any
-// of them is released by a matching one (sanitizers check that). Not inlined:
-// GCC would otherwise see malloc/free where it expects new/delete and warn.
-[[gnu::noinline]] void* operator new(std::size_t size) {
-    if (void* p = counted_allocation(size)) return p;
-    throw std::bad_alloc();
-}
-[[gnu::noinline]] void* operator new[](std::size_t size) {
-    if (void* p = counted_allocation(size)) return p;
-    throw std::bad_alloc();
-}
-[[gnu::noinline]] void* operator new(std::size_t size, std::align_val_t alignment) {
-    if (void* p = counted_allocation(size, static_cast<std::size_t>(alignment))) return p;
-    throw std::bad_alloc();
-}
-[[gnu::noinline]] void* operator new[](std::size_t size, std::align_val_t alignment) {
-    if (void* p = counted_allocation(size, static_cast<std::size_t>(alignment))) return p;
-    throw std::bad_alloc();
-}
-[[gnu::noinline]] void* operator new(std::size_t size, const std::nothrow_t&) noexcept {
-    return counted_allocation(size);
-}
-[[gnu::noinline]] void* operator new[](std::size_t size, const std::nothrow_t&) noexcept {
-    return counted_allocation(size);
-}
-[[gnu::noinline]] void* operator new(std::size_t size, std::align_val_t alignment, const std::nothrow_t&) noexcept {
-    return counted_allocation(size, static_cast<std::size_t>(alignment));
-}
-[[gnu::noinline]] void* operator new[](std::size_t size, std::align_val_t alignment, const std::nothrow_t&) noexcept {
-    return counted_allocation(size, static_cast<std::size_t>(alignment));
-}
-[[gnu::noinline]] void operator delete(void* p) noexcept { std::free(p); }
-[[gnu::noinline]] void operator delete[](void* p) noexcept { std::free(p); }
-[[gnu::noinline]] void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-[[gnu::noinline]] void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
-[[gnu::noinline]] void operator delete(void* p, std::align_val_t) noexcept { std::free(p); }
-[[gnu::noinline]] void operator delete[](void* p, std::align_val_t) noexcept { std::free(p); }
-[[gnu::noinline]] void operator delete(void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
-[[gnu::noinline]] void operator delete[](void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
-[[gnu::noinline]] void operator delete(void* p, const std::nothrow_t&) noexcept { std::free(p); }
-[[gnu::noinline]] void operator delete[](void* p, const std::nothrow_t&) noexcept { std::free(p); }
-[[gnu::noinline]] void operator delete(void* p, std::align_val_t, const std::nothrow_t&) noexcept { std::free(p); }
-[[gnu::noinline]] void operator delete[](void* p, std::align_val_t, const std::nothrow_t&) noexcept { std::free(p); }
 
 using namespace ecpair;
 using namespace ecpair::redundancy;
 
 namespace {
 
-// Allocations made by f().
-template <class F>
-std::size_t allocations_in(F&& f) {
-    const std::size_t before = g_allocations.load();
-    f();
-    return g_allocations.load() - before;
-}
+using test::allocations_in;
 
 // A FrameSender that keeps frames in storage made up front, as a master's does.
 class PreallocatedSender final : public master::FrameSender {

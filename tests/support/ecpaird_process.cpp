@@ -1,9 +1,6 @@
 #include "ecpaird_process.hpp"
 
 #include <signal.h>
-#include <sys/socket.h>
-#include <sys/un.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <fstream>
@@ -16,24 +13,6 @@ namespace ecpair::test {
 namespace {
 
 constexpr std::chrono::seconds kStartGuard{10};
-
-// Whether a connect to the socket succeeds: the file appears at bind(),
-// connections are refused until listen(), a moment later.
-bool listening(const std::filesystem::path& path) {
-    const int fd = ::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
-    if (fd < 0) return false;
-    sockaddr_un address{};
-    address.sun_family = AF_UNIX;
-    const auto text = path.string();
-    if (text.size() >= sizeof(address.sun_path)) {
-        ::close(fd);
-        return false;
-    }
-    std::copy(text.begin(), text.end(), address.sun_path);
-    const bool connected = ::connect(fd, reinterpret_cast<const sockaddr*>(&address), sizeof(address)) == 0;
-    ::close(fd);
-    return connected;
-}
 
 }  // namespace
 
@@ -60,7 +39,14 @@ EcpairdProcess::EcpairdProcess(const TestNamespace& ns, EcpairdSettings settings
 
 void EcpairdProcess::wait_ready() {
     const auto give_up = std::chrono::steady_clock::now() + kStartGuard;
-    while (!std::filesystem::exists(socket()) || !listening(socket())) {
+    // Ready is answering: the socket file appears at bind(), a moment before
+    // the daemon listens, and a connect in between is refused.
+    const auto answers = [this] {
+        control::Request request;
+        request.mutable_status()->set_max_variables(0);
+        return std::filesystem::exists(socket()) && control::call(socket().string(), request).has_value();
+    };
+    while (!answers()) {
         if (!process_->running() || std::chrono::steady_clock::now() > give_up) {
             throw std::runtime_error("ecpaird did not come up:\n" + process_->log());
         }
@@ -119,12 +105,6 @@ std::string EcpairdProcess::force_standby(bool forced) const {
     control::Request request;
     request.mutable_force_standby()->set_forced(forced);
     return command(request);
-}
-
-control::Response EcpairdProcess::call(const control::Request& request) const {
-    auto response = control::call(socket().string(), request);
-    if (!response) throw std::runtime_error(response.error().message);
-    return std::move(*response);
 }
 
 control::ImageHistoryReply EcpairdProcess::image_history() const {

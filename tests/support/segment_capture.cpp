@@ -79,7 +79,11 @@ Expected<SegmentCapture, std::string> read_segment_capture(const std::string& pc
         bool red;
     };
     std::map<std::uint8_t, std::vector<Seen>> recent;  // by frame id
-    std::map<std::uint32_t, std::uint32_t> red_to_main;
+    // How often each RED adapter's copy came with each MAIN adapter's: two
+    // masters sending at once (a collision, a double line break) now and then
+    // pair copies of different masters that happen to share a frame id, so the
+    // pairing seen most often names the RED adapter's master.
+    std::map<std::uint32_t, std::map<std::uint32_t, std::size_t>> red_with_main;
     for (const auto& copy : copies) {
         if (copy.header) out.cmf_cycles[mac_number(copy.header->sender.member)].insert(copy.header->cycle);
         if (!copy.process_data) continue;
@@ -90,12 +94,18 @@ Expected<SegmentCapture, std::string> read_segment_capture(const std::string& pc
         for (const auto& s : same_id) {
             if (s.nic == copy.nic) delivered = true;
             if (s.red != red) {
-                red_to_main[red ? copy.nic : s.nic] = red ? s.nic : copy.nic;
+                ++red_with_main[red ? copy.nic : s.nic][red ? s.nic : copy.nic];
                 delivered = true;
             }
         }
         same_id.push_back({copy.time_us, copy.nic, red});
         if (!delivered) out.process_data.push_back({copy.time_us, copy.nic});
+    }
+    std::map<std::uint32_t, std::uint32_t> red_to_main;
+    for (const auto& [red_nic, mains] : red_with_main) {
+        red_to_main[red_nic] =
+            std::max_element(mains.begin(), mains.end(), [](const auto& a, const auto& b) { return a.second < b.second; })
+                ->first;
     }
     for (auto& d : out.process_data) {
         if (const auto it = red_to_main.find(d.master); it != red_to_main.end()) d.master = it->second;

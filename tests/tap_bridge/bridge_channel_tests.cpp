@@ -179,7 +179,7 @@ TEST_CASE("the INACTIVE's frames ride in polls: filled once, delivered once", "[
     CHECK(polls > 0);
 }
 
-TEST_CASE("one copy lost or arriving first changes nothing; both lost counts as lost", "[tap_bridge]") {
+TEST_CASE("one copy lost or arriving first changes nothing - both lost counts as lost", "[tap_bridge]") {
     Ring ring;
     SECTION("MAIN copies lost") { ring.lose_main = true; }
     SECTION("RED copies lost") { ring.lose_red = true; }

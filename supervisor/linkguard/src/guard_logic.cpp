@@ -1,5 +1,7 @@
 #include "ecpair/linkguard/guard_logic.hpp"
 
+#include <algorithm>
+
 #include "ecpair/common/log.hpp"
 
 namespace ecpair::linkguard {
@@ -32,9 +34,14 @@ std::uint32_t GuardLogic::silence_ms(Clock::time_point now) const {
     return static_cast<std::uint32_t>(std::chrono::duration_cast<std::chrono::milliseconds>(now - *last_heartbeat_).count());
 }
 
+std::chrono::nanoseconds GuardLogic::look_interval() const {
+    return std::max<std::chrono::nanoseconds>(std::chrono::milliseconds(1), std::chrono::nanoseconds(options_.hang_timeout) / 8);
+}
+
 std::optional<GuardLogic::Clock::time_point> GuardLogic::deadline() const {
     if (state_ != GuardState::Watching || !last_heartbeat_) return std::nullopt;
-    return *last_heartbeat_ + options_.hang_timeout;
+    const auto left = std::chrono::nanoseconds(options_.hang_timeout) - counted_silence_;
+    return last_look_ + std::clamp(left, std::chrono::nanoseconds(0), look_interval());
 }
 
 void GuardLogic::on_message(const GuardMessage& message, Clock::time_point now) {
@@ -54,6 +61,8 @@ void GuardLogic::heartbeat(std::uint64_t cycle, Clock::time_point now) {
     if (last_heartbeat_ && cycle <= last_cycle_) return;  // the cycle did not advance: no heartbeat
     const std::uint32_t silent = silence_ms(now);
     last_heartbeat_ = now;
+    last_look_ = now;
+    counted_silence_ = std::chrono::nanoseconds(0);
     last_cycle_ = cycle;
     if (state_ == GuardState::Idle) {
         enter(GuardState::Watching, "first heartbeat");
@@ -100,9 +109,17 @@ void GuardLogic::links_up(Clock::time_point now) {
 }
 
 void GuardLogic::on_time(Clock::time_point now) {
-    const auto due = deadline();
-    if (!due || now < *due) return;
-    take_links_down(DownReason::HeartbeatStopped, now, true);
+    if (state_ != GuardState::Watching || !last_heartbeat_ || now <= last_look_) return;
+    const auto elapsed = std::chrono::duration_cast<std::chrono::nanoseconds>(now - last_look_);
+    const auto counted = std::min(elapsed, 2 * look_interval());
+    if (counted < elapsed) {
+        log()->info("link guard {}: its own look came {:.1f} ms late (the machine stalled); {:.1f} ms of that counted",
+                    options_.name, std::chrono::duration<double, std::milli>(elapsed - look_interval()).count(),
+                    std::chrono::duration<double, std::milli>(counted).count());
+    }
+    counted_silence_ += counted;
+    last_look_ = now;
+    if (counted_silence_ >= options_.hang_timeout) take_links_down(DownReason::HeartbeatStopped, now, true);
 }
 
 void GuardLogic::on_daemon_gone(Clock::time_point now) {

@@ -3,9 +3,14 @@
 // mirrored slave state image; this checks it in the background with a real
 // bus scan through the master's acyclic queue and reports the result as a
 // TopologyVerified event (a = 1 when the bus shows exactly the slaves the
-// image says are present, with the ENI's identities).
+// image says are present, with the ENI's identities). Right after a
+// takeover the ring may still be open (the failed partner's side is only
+// closing its ports), so a scan that gets no answer is retried a few times
+// before the verifier gives up and says so.
 
+#include <chrono>
 #include <memory>
+#include <stop_token>
 #include <thread>
 #include <vector>
 
@@ -18,19 +23,23 @@ namespace ecpair::redundancy {
 
 class TopologyVerifier {
 public:
-    TopologyVerifier(std::shared_ptr<const eni::EniConfig> eni, bus::BusAccess& bus, master::EventQueue& events)
-        : eni_(std::move(eni)), bus_(bus), events_(events) {}
+    static constexpr int kAttempts = 5;
+
+    TopologyVerifier(std::shared_ptr<const eni::EniConfig> eni, bus::BusAccess& bus, master::EventQueue& events,
+                     std::chrono::milliseconds retry_after = std::chrono::milliseconds(500))
+        : eni_(std::move(eni)), bus_(bus), events_(events), retry_after_(retry_after) {}
     ~TopologyVerifier();
 
-    // Starts a scan against `expected` (a running one is waited for first).
+    // Starts a scan against `expected` (a running one is stopped first).
     void verify(std::vector<master::SlaveStateEntry> expected);
 
 private:
-    void run(const std::vector<master::SlaveStateEntry>& expected);
+    void run(const std::stop_token& stop, const std::vector<master::SlaveStateEntry>& expected);
 
     std::shared_ptr<const eni::EniConfig> eni_;
     bus::BusAccess& bus_;
     master::EventQueue& events_;
+    std::chrono::milliseconds retry_after_;
     std::jthread thread_;
 };
 

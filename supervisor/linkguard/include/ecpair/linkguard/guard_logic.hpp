@@ -15,6 +15,12 @@
 //
 // A heartbeat counts only when its cycle is higher than the last one: the
 // guard checks for itself that the cycle advances.
+//
+// The silence is counted in the guard's own looks (every hang_timeout / 8),
+// each adding at most two look intervals: when the whole machine stalls
+// (a virtual machine descheduled, a long page reclaim) the guard stalls with
+// ecpaird, and a stall of everyone is no hang of ecpaird. A real hang, in
+// which the guard goes on running, is counted in full.
 
 #include <chrono>
 #include <cstdint>
@@ -57,8 +63,10 @@ public:
     // Call when deadline() has passed (or at any time: nothing happens before it).
     void on_time(Clock::time_point now);
 
-    // When on_time must be called next; nullopt: nothing to wait for.
+    // When on_time must be called next (the next look); nullopt: nothing to wait for.
     std::optional<Clock::time_point> deadline() const;
+    // How long the cycle has stood still as the guard counted it.
+    std::chrono::nanoseconds counted_silence() const { return counted_silence_; }
     GuardState state() const { return state_; }
     bool finished() const { return state_ == GuardState::Finished; }
 
@@ -68,11 +76,14 @@ private:
     void take_links_down(DownReason reason, Clock::time_point now, bool report);
     std::uint32_t silence_ms(Clock::time_point now) const;
     void enter(GuardState next, std::string_view why);
+    std::chrono::nanoseconds look_interval() const;
 
     GuardOptions options_;
     Io io_;
     GuardState state_ = GuardState::Idle;
     std::optional<Clock::time_point> last_heartbeat_;
+    Clock::time_point last_look_;               // the last heartbeat or on_time
+    std::chrono::nanoseconds counted_silence_{0};  // since the last heartbeat, in looks
     std::optional<Clock::time_point> down_at_;  // when the guard took the links down for a hang
     std::uint64_t last_cycle_ = 0;
     bool resumed_reported_ = false;
