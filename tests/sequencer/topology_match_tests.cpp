@@ -281,7 +281,7 @@ TEST_CASE_METHOD(Fixture, "a group whose member is missing is refused", "[sequen
     CHECK(of(m, 2).optional);
 }
 
-TEST_CASE_METHOD(Fixture, "a missing mandatory slave blocks; its groups count as absent", "[sequencer][hotconnect]") {
+TEST_CASE_METHOD(Fixture, "a missing mandatory slave blocks, its groups count as absent", "[sequencer][hotconnect]") {
     const auto report = bus_of({{&s(0), 0, {}}});
     const auto m = match(report);
     CHECK(m.blocking());
