@@ -16,17 +16,27 @@
 //       double line break, or a collision) are one "two masters" period,
 //       not a series of takeovers; a single frame of one master amid the
 //       other's is reported as a stray frame.
+//   cadence SEGMENT.pcap FROM_US TO_US CYCLE_US
+//       The cyclic frames at the slaves in a time window (Unix µs), for the
+//       Hot-Connect benchmark: the MAIN copies of process-data frames as they
+//       entered the segment (source MAC byte 0 without the slave-forwarding
+//       and redundancy bits), their largest gap and the cycles missing (a gap
+//       of k cycles misses k-1); and the WKCs of their LRD datagrams as they
+//       came out processed (bit 0x02 set), lowest and highest.
 
 #include <pcap/pcap.h>
 
 #include <algorithm>
-#include <cstdlib>
 #include <array>
+#include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <map>
 #include <string>
 #include <vector>
 
+#include "ecpair/wire/frame.hpp"
+#include "ecpair/wire/source_mac.hpp"
 #include "segment_capture.hpp"
 
 namespace {
@@ -137,12 +147,58 @@ int gaps(const std::string& file, double cycle_us) {
     return 0;
 }
 
+bool carries_process_data(const Frame& f) {
+    auto view = wire::ConstFrameView::parse(f.bytes);
+    if (!view) return false;
+    return std::any_of(view->begin(), view->end(), [](const auto& d) {
+        return d.command() == wire::Command::Lrd || d.command() == wire::Command::Lwr || d.command() == wire::Command::Lrw;
+    });
+}
+
+int cadence(const std::string& file, double from_us, double to_us, double cycle_us) {
+    const auto frames = read(file);
+    std::vector<double> entered;
+    int wkc_min = -1;
+    int wkc_max = -1;
+    for (const auto& f : frames) {
+        if (f.time_us < from_us || f.time_us > to_us || f.bytes.size() < 12 || !carries_process_data(f)) continue;
+        const std::uint8_t byte0 = f.bytes[6];
+        if ((byte0 & wire::SourceMac::kRedundancyBit) != 0) continue;
+        if ((byte0 & 0x02) == 0) {
+            entered.push_back(f.time_us);
+            continue;
+        }
+        auto view = wire::ConstFrameView::parse(f.bytes);
+        for (const auto d : *view) {
+            if (d.command() != wire::Command::Lrd) continue;
+            const int wkc = d.wkc();
+            wkc_min = wkc_min < 0 ? wkc : std::min(wkc_min, wkc);
+            wkc_max = std::max(wkc_max, wkc);
+        }
+    }
+    double largest = 0;
+    long missing = 0;
+    for (std::size_t i = 1; i < entered.size(); ++i) {
+        const double gap = entered[i] - entered[i - 1];
+        largest = std::max(largest, gap);
+        const long cycles = std::lround(gap / cycle_us);
+        if (cycles > 1) missing += cycles - 1;
+    }
+    std::printf("frames %zu in %.1f ms, largest gap %.0f us, cycles missing %ld, LRD WKC %d..%d\n", entered.size(),
+                (to_us - from_us) / 1000.0, largest, missing, wkc_min, wkc_max);
+    return entered.empty() ? 1 : 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
     const std::string mode = argc > 1 ? argv[1] : "";
     if (mode == "delay" && argc == 4) return delay(argv[2], argv[3]);
     if (mode == "gaps" && (argc == 3 || argc == 4)) return gaps(argv[2], argc == 4 ? std::atof(argv[3]) : 0.0);
-    std::fprintf(stderr, "usage: %s delay IN.pcap OUT.pcap | gaps SEGMENT.pcap [CYCLE_US]\n", argv[0]);
+    if (mode == "cadence" && argc == 6) return cadence(argv[2], std::atof(argv[3]), std::atof(argv[4]), std::atof(argv[5]));
+    std::fprintf(stderr,
+                 "usage: %s delay IN.pcap OUT.pcap | gaps SEGMENT.pcap [CYCLE_US] | cadence SEGMENT.pcap FROM_US TO_US "
+                 "CYCLE_US\n",
+                 argv[0]);
     return 2;
 }

@@ -346,11 +346,15 @@ CmfStandbyStatus CmfStandbyStatus::decode(ConstBytes in) {
 
 // ---- slave entries
 //
-//  0 u8  flags: b0 present     2 u16 station address
-//  1 u8  AL status (0x0130)    4 u16 AL status code (0x0134)
+//  0 u8  flags: b0 present,     2 u16 station address
+//        b1-b4 Hot-Connect      4 u16 AL status code (0x0134)
+//  1 u8  AL status (0x0130)
+// The Hot-Connect bits are SlaveStateEntry::hot_connect shifted up by one
+// (group present, joining, awaiting accept, refused); b5-b7 reserved.
 
 void encode_slave_entry(const master::SlaveStateEntry& entry, Bytes out) {
-    out[0] = entry.present ? kSlavePresentBit : std::uint8_t{0};
+    out[0] = static_cast<std::uint8_t>((entry.present ? kSlavePresentBit : 0) |
+                                       ((entry.hot_connect & master::kHotConnectFlags) << 1));
     out[1] = entry.al_status;
     store_le<std::uint16_t>(out, 2, entry.station_address);
     store_le<std::uint16_t>(out, 4, entry.al_status_code);
@@ -359,6 +363,7 @@ void encode_slave_entry(const master::SlaveStateEntry& entry, Bytes out) {
 master::SlaveStateEntry decode_slave_entry(ConstBytes in) {
     master::SlaveStateEntry entry;
     entry.present = (in[0] & kSlavePresentBit) != 0;
+    entry.hot_connect = static_cast<std::uint8_t>((in[0] >> 1) & master::kHotConnectFlags);
     entry.al_status = in[1];
     entry.station_address = load_le<std::uint16_t>(in, 2);
     entry.al_status_code = load_le<std::uint16_t>(in, 4);

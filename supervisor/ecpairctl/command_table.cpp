@@ -32,6 +32,17 @@ std::span<const Command> commands() {
                 run_red_state_command},
         Command{"compare", "--socket A --socket B", "check that a pair's images agree, cycle by cycle",
                 run_compare_command},
+        Command{"groups", "[--json]", "Hot-Connect groups with their members and presence, mismatches, blocked ports",
+                run_groups_command},
+        Command{"accept", "", "accept the Hot-Connect topology change waiting (manual modes)", run_accept_command},
+        Command{"topology-change", "", "run the Hot-Connect topology change now", run_topology_change_command},
+        Command{"block-node", "[--mismatch N | --station S]",
+                "close the port in front of a mismatch (default: the first) or of a slave", run_block_node_command},
+        Command{"open-blocked-ports", "", "open the ports block-node closed", run_open_blocked_ports_command},
+        Command{"port", "STATION B|C|D auto|auto-close|open|closed", "set a slave port's loop setting",
+                run_port_command},
+        Command{"alias", "set STATION VALUE", "program a slave's station alias into its SII (at its next power-on)",
+                run_alias_command},
     };
     return kCommands;
 }

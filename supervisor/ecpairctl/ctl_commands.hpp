@@ -15,6 +15,13 @@ int run_red_state_command(const CommandArgs& args, std::ostream& out, std::ostre
 int run_switchover_command(const CommandArgs& args, std::ostream& out, std::ostream& err);       // pair_commands.cpp
 int run_force_standby_command(const CommandArgs& args, std::ostream& out, std::ostream& err);    // pair_commands.cpp
 int run_unforce_standby_command(const CommandArgs& args, std::ostream& out, std::ostream& err);  // pair_commands.cpp
+int run_groups_command(const CommandArgs& args, std::ostream& out, std::ostream& err);              // groups_command.cpp
+int run_accept_command(const CommandArgs& args, std::ostream& out, std::ostream& err);              // hot_connect_commands.cpp
+int run_topology_change_command(const CommandArgs& args, std::ostream& out, std::ostream& err);     // hot_connect_commands.cpp
+int run_block_node_command(const CommandArgs& args, std::ostream& out, std::ostream& err);          // hot_connect_commands.cpp
+int run_open_blocked_ports_command(const CommandArgs& args, std::ostream& out, std::ostream& err);  // hot_connect_commands.cpp
+int run_port_command(const CommandArgs& args, std::ostream& out, std::ostream& err);                // port_command.cpp
+int run_alias_command(const CommandArgs& args, std::ostream& out, std::ostream& err);               // alias_command.cpp
 int run_compare_command(const CommandArgs& args, std::ostream& out, std::ostream& err);     // compare_command.cpp
 
 }  // namespace ecpair::ctl

@@ -15,6 +15,7 @@ std::span<const StatusSection> status_sections() {
         StatusSection{"supervisor", supervisor_table, supervisor_json},
         StatusSection{"link_guard", link_guard_table, link_guard_json},
         StatusSection{"tap_bridge", print_tap_bridge_status, write_tap_bridge_json},
+        StatusSection{"hot_connect", hot_connect_table, hot_connect_json},
         StatusSection{"loopback", loopback_table, loopback_json},
         StatusSection{"operator_socket", operator_socket_table, operator_socket_json},
         StatusSection{"slaves", slaves_table, slaves_json},

@@ -45,6 +45,8 @@ void loopback_table(std::ostream& out, const control::StatusReply& s);
 void loopback_json(JsonWriter& json, const control::StatusReply& s);
 void operator_socket_table(std::ostream& out, const control::StatusReply& s);
 void operator_socket_json(JsonWriter& json, const control::StatusReply& s);
+void hot_connect_table(std::ostream& out, const control::StatusReply& s);
+void hot_connect_json(JsonWriter& json, const control::StatusReply& s);
 void slaves_table(std::ostream& out, const control::StatusReply& s);
 void slaves_json(JsonWriter& json, const control::StatusReply& s);
 

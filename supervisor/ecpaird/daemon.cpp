@@ -82,15 +82,23 @@ int Daemon::open() {
     demo_ = std::make_unique<DemoApplication>(*eni_, settings_.demo, settings_.demo_step_cycles);
     master_->set_cycle_hook([this](master::ProcessImage& image, const master::CycleInfo& info) { on_cycle(image, info); });
 
+    open_hot_connect();
     sequencer::StateMachineHooks hooks;
     hooks.request_cyclic_state = [this](eni::SlaveState s) { master_->request_state(s); };
     hooks.cyclic_state = [this] { return master_->state(); };
     hooks.on_done = [this](const sequencer::SequenceResult& result) { on_sequence_done(result); };
+    hooks.on_start = [this] { hot_connect_->on_sequence_busy(); };
+    hooks.on_scan = [this](const sequencer::ScanOutcome& outcome) { hot_connect_->on_startup_scan(outcome); };
     state_machine_ = std::make_unique<sequencer::MasterStateMachine>(eni_, master_->bus(), std::move(hooks), &events_);
-    if (const int rc = open_redundancy(); rc != kOk) return rc;
-    slave_monitor_ = std::make_unique<sequencer::SlaveMonitor>(eni_, master_->bus(), master_->slaves(), &events_, [this] {
-        return master_->state() != eni::SlaveState::Init;  // station addresses are assigned from PREOP on
+    hot_connect_->set_presence_listener([this](const std::vector<bool>& present, const std::vector<std::uint16_t>& shift) {
+        state_machine_->update_presence(present, shift);
     });
+    if (const int rc = open_redundancy(); rc != kOk) return rc;
+    // Presence events come from Hot-Connect (after identification), not from every poll.
+    slave_monitor_ = std::make_unique<sequencer::SlaveMonitor>(
+        eni_, master_->bus(), master_->slaves(), &events_,
+        [this] { return master_->state() != eni::SlaveState::Init; },  // station addresses are assigned from PREOP on
+        std::chrono::milliseconds(100), /*report_presence=*/false);
 
     master::CycleThreadOptions cycle;
     cycle.period = master_->options().cycle_time;
@@ -101,7 +109,7 @@ int Daemon::open() {
     if (redundancy_) cycle_thread_->set_phase_reference([this] { return redundancy_->phase_reference(); });
 
     operator_service_ = std::make_unique<OperatorService>(settings_, *master_, *state_machine_, *cycle_thread_, *demo_,
-                                                          redundancy_.get(), supervisor_.get());
+                                                          redundancy_.get(), supervisor_.get(), *hot_connect_service_);
     operator_service_->set_tap_bridge(tap_bridge_.get());
     operator_service_->set_link_guard(link_guard_.get());
     if (link_guard_) link_guard_policy_ = make_link_guard_policy();
@@ -149,7 +157,10 @@ void Daemon::stop_threads() {
     stopping_ = true;
     topology_verifier_.reset();
     slave_monitor_.reset();
+    // Hot-Connect and the state machine call each other: cut that, then stop the machine first.
+    if (hot_connect_) hot_connect_->set_presence_listener({});
     state_machine_.reset();  // cancels a running sequence (its requests fail when the cycle stops)
+    hot_connect_.reset();
     if (cycle_thread_) cycle_thread_->stop();
     for (auto& r : receive_threads_) r->stop();
     if (tap_bridge_) tap_bridge_->stop();
@@ -229,11 +240,28 @@ int Daemon::open_redundancy() {
     return kOk;
 }
 
+// Hot-Connect follows the bus from the first startup scan on; an INACTIVE
+// pair member follows the mirrored image until it takes over.
+void Daemon::open_hot_connect() {
+    hotconnect::HotConnectOptions options;
+    const auto& h = settings_.hot_connect;
+    options.mode = h.mode == config::HotConnectMode::ManualPreop     ? hotconnect::HotConnectMode::ManualPreop
+                   : h.mode == config::HotConnectMode::ManualNoReset ? hotconnect::HotConnectMode::ManualNoReset
+                                                                     : hotconnect::HotConnectMode::Automatic;
+    options.border_close = h.border_close;
+    options.detection_timeout = h.detection_timeout;
+    hot_connect_host_ = std::make_unique<hotconnect::MasterHost>(*master_);
+    hot_connect_ = std::make_unique<hotconnect::HotConnect>(eni_, *hot_connect_host_, &events_, options);
+    hot_connect_service_ = std::make_unique<HotConnectService>(*hot_connect_);
+    if (settings_.redundancy.enabled && !settings_.redundancy.start_active) hot_connect_->set_active(false);
+}
+
 // On the state machine's worker thread. A master keeps trying to bring its
 // bus up: a failed start (a scan that found nobody, a slave missing, a
 // command that timed out) is tried again a little later, until it works or
 // the target changes. An INACTIVE master or a shutdown ends it quietly.
 void Daemon::on_sequence_done(const sequencer::SequenceResult& result) {
+    hot_connect_->on_sequence_idle(result.reached, !result.error && result.reached == result.target);
     if (!result.error) {
         log()->info("slaves in {}", sequencer::to_string(result.reached));
         return;
@@ -261,7 +289,10 @@ void Daemon::on_sequence_done(const sequencer::SequenceResult& result) {
 // to the control thread at once.
 void Daemon::on_role_change(const redundancy::RoleChange& change) {
     boost::asio::post(io_, [this, change] {
-        if (change.to == redundancy::RedState::Inactive) return;  // sequences stop on their own (bus refused)
+        if (change.to == redundancy::RedState::Inactive) {
+            hot_connect_->set_active(false);
+            return;  // sequences stop on their own (bus refused)
+        }
         const auto target = *sequencer::to_master_state(settings_.target_state);
         // Mailbox messages go on from where the partner's counters stopped.
         state_machine_->continue_mailbox_counters(redundancy_->partner_mailbox_counters());
@@ -269,9 +300,12 @@ void Daemon::on_role_change(const redundancy::RoleChange& change) {
             const auto state = sequencer::to_master_state(change.master_state);
             if (state) state_machine_->adopt(*state);
             topology_verifier_->verify(master_->slaves().snapshot());
+            // A topology change the partner had under way is finished here.
+            hot_connect_->after_takeover();
             // Taken over during a transition (start-up, a state change): finish it here.
             if (state != target) state_machine_->request(target);
         } else {
+            hot_connect_->set_active(true);
             state_machine_->request(target);
         }
     });

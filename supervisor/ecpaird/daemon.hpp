@@ -16,6 +16,7 @@
 #include "demo_application.hpp"
 #include "ecpair/control/control_server.hpp"
 #include "ecpair/config/daemon_settings.hpp"
+#include "ecpair/hotconnect/hot_connect.hpp"
 #include "ecpair/eni/model.hpp"
 #include "ecpair/link/link_state_monitor.hpp"
 #include "ecpair/linkguard/link_guard.hpp"
@@ -59,6 +60,7 @@ private:
     std::chrono::microseconds cycle_time() const;
     int open_links();
     int open_redundancy();
+    void open_hot_connect();
     int open_link_guard();          // daemon_ops.cpp
     std::unique_ptr<LinkGuardResumePolicy> make_link_guard_policy();  // daemon_ops.cpp
     std::string service_status() const;  // daemon_ops.cpp: one line for systemd
@@ -76,6 +78,9 @@ private:
     std::unique_ptr<DemoApplication> demo_;
     std::unique_ptr<sequencer::MasterStateMachine> state_machine_;
     std::unique_ptr<sequencer::SlaveMonitor> slave_monitor_;
+    std::unique_ptr<hotconnect::MasterHost> hot_connect_host_;
+    std::unique_ptr<hotconnect::HotConnect> hot_connect_;
+    std::unique_ptr<HotConnectService> hot_connect_service_;
     std::unique_ptr<tap_bridge::TapBridge> tap_bridge_;  // only with a tap block; outlives the controller
     std::unique_ptr<redundancy::RedundancyController> redundancy_;  // only in a redundant pair
     arbitration::SystemRandom random_;

@@ -100,6 +100,7 @@ control::StatusReply OperatorService::status(const control::StatusRequest& reque
         if (supervisor_) add_supervisor_status(r, *reply.mutable_supervisor());
     }
     if (tap_bridge_) fill_tap_bridge_status(*tap_bridge_, *reply.mutable_tap_bridge());
+    hot_connect_.fill_summary(*reply.mutable_hot_connect());
     const auto loop = demo_.stats();
     auto* l = reply.mutable_loopback();
     l->set_cycles_checked(loop.cycles_checked);

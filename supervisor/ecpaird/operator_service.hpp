@@ -8,6 +8,7 @@
 #include <string>
 
 #include "demo_application.hpp"
+#include "hot_connect_service.hpp"
 #include "ecpair/config/daemon_settings.hpp"
 #include "ecpair/control/control_server.hpp"
 #include "ecpair/linkguard/link_guard.hpp"
@@ -25,14 +26,15 @@ public:
     OperatorService(const config::DaemonSettings& settings, master::Master& master,
                     sequencer::MasterStateMachine& state_machine, const master::CycleThread& cycle_thread,
                     const DemoApplication& demo, redundancy::RedundancyController* redundancy,
-                    supervisor::Supervisor* supervisor)
+                    supervisor::Supervisor* supervisor, HotConnectService& hot_connect)
         : settings_(settings),
           master_(master),
           state_machine_(state_machine),
           cycle_thread_(cycle_thread),
           demo_(demo),
           redundancy_(redundancy),
-          supervisor_(supervisor) {}
+          supervisor_(supervisor),
+          hot_connect_(hot_connect) {}
 
     control::StatusReply status(const control::StatusRequest& request) override;
     std::optional<std::string> set_master_state(const control::SetMasterStateRequest& request) override;
@@ -42,6 +44,7 @@ public:
     std::optional<std::string> switchover(const control::SwitchoverRequest& request) override;
     std::optional<std::string> force_standby(const control::ForceStandbyRequest& request) override;
     void set_link_guard(const linkguard::LinkGuard* guard) { link_guard_ = guard; }
+    control::Response hot_connect(const control::Request& request) override { return hot_connect_.handle(request); }
 
 private:
     void add_supervisor_status(const redundancy::RedundancySnapshot& pair, control::SupervisorStatus& out) const;
@@ -55,6 +58,7 @@ private:
     supervisor::Supervisor* supervisor_;            // null outside a pair
     const tap_bridge::TapBridge* tap_bridge_ = nullptr;  // null without a tap block
     const linkguard::LinkGuard* link_guard_ = nullptr;  // null when off
+    HotConnectService& hot_connect_;
 };
 
 // The event as the operator API carries it.

@@ -195,3 +195,26 @@ control { request_timeout_ms: 250 max_clients: 10 }
     CHECK(error_of("interfaces { main: \"a\" }\neni_path: \"x\"\ncontrol { max_clients: 100000 }\n") ==
           "test.textproto:3:11: control.max_clients: must be 1..65536 (got 100000)");
 }
+
+TEST_CASE("hot-connect settings: defaults, values, and their errors", "[config][hotconnect]") {
+    using ecpair::config::HotConnectMode;
+    const auto plain = ecpair::config::parse_daemon_settings("interfaces { main: \"a\" }\neni_path: \"x\"\n", "t");
+    REQUIRE(plain);
+    CHECK(plain->hot_connect.mode == HotConnectMode::Automatic);
+    CHECK_FALSE(plain->hot_connect.border_close);
+    CHECK(plain->hot_connect.detection_timeout == std::chrono::milliseconds(15000));
+
+    const auto set = ecpair::config::parse_daemon_settings(
+        "interfaces { main: \"a\" }\neni_path: \"x\"\n"
+        "hot_connect { mode: MANUAL_NORESET border_close: true detection_timeout_ms: 2000 }\n",
+        "t");
+    REQUIRE(set);
+    CHECK(set->hot_connect.mode == HotConnectMode::ManualNoReset);
+    CHECK(set->hot_connect.border_close);
+    CHECK(set->hot_connect.detection_timeout == std::chrono::milliseconds(2000));
+
+    CHECK(error_of("interfaces { main: \"a\" }\neni_path: \"x\"\nhot_connect { detection_timeout_ms: 5 }\n") ==
+          "test.textproto:3:15: hot_connect.detection_timeout_ms: must be 100..600000 ms (got 5)");
+    CHECK(error_of("interfaces { main: \"a\" }\neni_path: \"x\"\nhot_connect { mode: SOMETIMES }\n").rfind(
+              "test.textproto:3:", 0) == 0);
+}

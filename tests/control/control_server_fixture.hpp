@@ -35,8 +35,29 @@ public:
     ImageHistoryReply image_history(const ImageHistoryRequest&) override { return {}; }
     std::optional<std::string> switchover(const SwitchoverRequest&) override { return "not a pair"; }
     std::optional<std::string> force_standby(const ForceStandbyRequest&) override { return "not a pair"; }
+    // Hot-Connect: `hc_groups` for a groups request; every other one is
+    // refused with `hc_refusal` unless that is empty.
+    Response hot_connect(const Request& request) override {
+        Response response;
+        if (request.has_hc_groups()) {
+            *response.mutable_hc_groups() = hc_groups;
+            response.set_ok(true);
+        } else if (!hc_refusal.empty()) {
+            response.set_error(hc_refusal);
+        } else {
+            if (request.has_hc_block_node() || request.has_hc_open_blocked_ports()) *response.mutable_hc_ports() = hc_ports;
+            if (request.has_hc_set_alias()) response.mutable_hc_alias()->set_previous(7);
+            response.set_ok(true);
+        }
+        last_hc_request = request;
+        return response;
+    }
 
     StatusReply reply;  // what status() answers; set it before the server runs
+    HotConnectGroupsReply hc_groups;
+    HotConnectPortsReply hc_ports;
+    std::string hc_refusal = "InvalidState: no topology change waits for an accept";
+    Request last_hc_request;
 };
 
 // Connects without any protocol; the descriptor, or -errno.

@@ -331,3 +331,147 @@ TEST_CASE("the JSON writer escapes strings and keeps invalid UTF-8 out", "[ctl]"
           "\"list\":[18446744073709551615,-3,0.5,null,null,true],\"empty\":{}}");
     parse_json(w.str());
 }
+
+namespace {
+
+HotConnectGroupsReply two_groups() {
+    HotConnectGroupsReply r;
+    auto* s = r.mutable_summary();
+    s->set_state("idle");
+    s->set_mode("automatic");
+    s->set_groups(1);
+    s->set_groups_present(0);
+    s->set_slaves_on_bus(3);
+    s->set_changes(2);
+    s->set_last_result("groups refused (a mismatch)");
+    s->set_mismatches(1);
+    auto* mandatory = r.add_groups();
+    mandatory->set_number(0);
+    mandatory->set_name("mandatory");
+    mandatory->set_identification("none");
+    mandatory->set_status("present");
+    auto* coupler = mandatory->add_members();
+    coupler->set_slave(0);
+    coupler->set_name("EK1100");
+    coupler->set_station(1001);
+    coupler->set_present(true);
+    coupler->set_al_state("OP");
+    auto* tool = r.add_groups();
+    tool->set_number(1);
+    tool->set_name("Tool changer");
+    tool->set_floating(true);
+    tool->set_identification("station alias 101");
+    tool->set_status("absent");
+    auto* io = tool->add_members();
+    io->set_slave(3);
+    io->set_name("EL1008");
+    io->set_station(1004);
+    io->set_present(false);
+    io->set_al_state("?");
+    auto* m = r.add_mismatches();
+    m->set_position(3);
+    m->set_kind("unexpected");
+    m->set_previous_station(1001);
+    m->set_previous_port("C");
+    m->set_found_vendor(0x0BADC0DE);
+    m->set_text("position 3: an unexpected slave at station 1001 port C");
+    auto* p = r.add_blocked();
+    p->set_station(1002);
+    p->set_port("D");
+    return r;
+}
+
+}  // namespace
+
+TEST_CASE("ecpairctl groups: the groups, their members, the mismatches and blocked ports", "[ctl][hotconnect]") {
+    ServerFixture f;
+    f.on_io([&f] { f.handler.hc_groups = two_groups(); });
+    SECTION("as a table") {
+        const auto r = run(run_groups_command, {"--socket", f.path});
+        INFO(r.out << r.err);
+        CHECK(r.code == kExitOk);
+        CHECK_THAT(r.out, Catch::Contains("Hot-Connect: idle, mode automatic, border close off; 0 of 1 optional group(s)") &&
+                              Catch::Contains("group 1 'Tool changer': absent, floating, identification station alias 101") &&
+                              Catch::Contains("[0] position 3: an unexpected slave") &&
+                              Catch::Contains("station 1002 port D"));
+    }
+    SECTION("as JSON") {
+        const auto r = run(run_groups_command, {"--socket", f.path, "--json"});
+        REQUIRE(r.code == kExitOk);
+        const auto json = parse_json(r.out);
+        CHECK(field(field(json, "summary").struct_value(), "groups").number_value() == 1);
+        CHECK(field(field(json, "summary").struct_value(), "last_result").string_value() == "groups refused (a mismatch)");
+        const auto& groups = field(json, "groups").list_value();
+        REQUIRE(groups.values_size() == 2);
+        CHECK(field(groups.values(0).struct_value(), "mandatory").bool_value());
+        const auto& tool = groups.values(1).struct_value();
+        CHECK(field(tool, "status").string_value() == "absent");
+        CHECK_FALSE(field(field(tool, "members").list_value().values(0).struct_value(), "present").bool_value());
+        const auto& mismatch = field(json, "mismatches").list_value().values(0).struct_value();
+        CHECK(field(mismatch, "previous_station").number_value() == 1001);
+        CHECK(field(mismatch, "value_read").kind_case() == Value::kNullValue);
+        CHECK(field(field(json, "blocked").list_value().values(0).struct_value(), "port").string_value() == "D");
+    }
+}
+
+TEST_CASE("ecpairctl status: a Hot-Connect line and a hot_connect object", "[ctl][hotconnect]") {
+    auto s = member("m1", "ACTIVE", true);
+    *s.mutable_hot_connect() = two_groups().summary();
+    ServerFixture f({}, &s);
+    const auto table = run(run_status_command, {"--socket", f.path});
+    CHECK_THAT(table.out, Catch::Contains("hot-connect: idle, mode automatic; 0 of 1 optional group(s) present") &&
+                              Catch::Contains("1 MISMATCH(ES) (ecpairctl groups)"));
+    const auto r = run(run_status_command, {"--socket", f.path, "--json"});
+    REQUIRE(r.code == kExitOk);
+    const auto json = parse_json(r.out);
+    const auto& h = field(json, "hot_connect").struct_value();
+    CHECK(field(h, "mode").string_value() == "automatic");
+    CHECK(field(h, "slaves_on_bus").number_value() == 3);
+}
+
+TEST_CASE("ecpairctl's Hot-Connect operations send their request and keep the exit codes", "[ctl][hotconnect]") {
+    ServerFixture f;
+    SECTION("refused: 1, with the daemon's code") {
+        const auto r = run(run_accept_command, {"--socket", f.path});
+        CHECK(r.code == kExitRefused);
+        CHECK(r.err == "ecpairctl: " + f.path + ": InvalidState: no topology change waits for an accept\n");
+    }
+    SECTION("accepted: 0") {
+        f.on_io([&f] {
+            f.handler.hc_refusal.clear();
+            auto* p = f.handler.hc_ports.add_ports();
+            p->set_station(1001);
+            p->set_port("C");
+        });
+        CHECK(run(run_accept_command, {"--socket", f.path}).code == kExitOk);
+        CHECK(f.on_io([&f] { return f.handler.last_hc_request.has_hc_accept(); }));
+        CHECK(run(run_topology_change_command, {"--socket", f.path}).code == kExitOk);
+        CHECK(f.on_io([&f] { return f.handler.last_hc_request.has_hc_force(); }));
+        const auto blocked = run(run_block_node_command, {"--socket", f.path, "--mismatch", "2"});
+        CHECK(blocked.code == kExitOk);
+        CHECK(blocked.out == "station 1001 port C closed: what hangs behind it is cut off\n");
+        CHECK(f.on_io([&f] { return f.handler.last_hc_request.hc_block_node().mismatch(); }) == 2);
+        CHECK(run(run_open_blocked_ports_command, {"--socket", f.path}).out == "station 1001 port C open again\n");
+        CHECK(run(run_port_command, {"--socket", f.path, "1002", "D", "closed"}).out == "station 1002 port D: closed\n");
+        const auto port = f.on_io([&f] { return f.handler.last_hc_request.hc_set_port(); });
+        CHECK(port.station() == 1002);
+        CHECK(port.port() == "D");
+        CHECK(port.setting() == "closed");
+        const auto alias = run(run_alias_command, {"--socket", f.path, "set", "1004", "0x65"});
+        CHECK(alias.code == kExitOk);
+        CHECK_THAT(alias.out, Catch::Contains("SII station alias 101 (was 7)"));
+        CHECK(f.on_io([&f] { return f.handler.last_hc_request.hc_set_alias().alias(); }) == 101);
+    }
+    SECTION("bad arguments: 2, one line") {
+        for (const auto& r : {run(run_block_node_command, {"--socket", f.path, "--mismatch", "1", "--station", "2"}),
+                              run(run_alias_command, {"--socket", f.path, "get", "1", "2"}),
+                              run(run_alias_command, {"--socket", f.path, "set", "1", "70000"}),
+                              run(run_port_command, {"--socket", f.path, "1001"})}) {
+            CHECK(r.code == kExitUsage);
+            CHECK(r.err.find('\n') == r.err.size() - 1);
+        }
+    }
+    SECTION("no daemon: 3") {
+        CHECK(run(run_groups_command, {"--socket", (f.dir / "nobody.sock").string()}).code == kExitUnreachable);
+    }
+}

@@ -52,7 +52,7 @@ TEST_CASE("eni: Hot-Connect groups and an LRD/LWR file", "[eni][ctl]") {
     CHECK_THAT(hc.out, Catch::Contains("2 hot-connect group(s)\n"));
     CHECK_THAT(hc.out, Catch::Contains("  HEAD POS  HEAD PHYS  GROUP         MEMBERS  IDENTIFY CMDS\n"
                                        "         1       1002  Gripper             2              2\n"
-                                       "         3       1004  Tool changer        1              1\n"));
+                                       "         3       1004  Tool changer        1              3\n"));
 
     const auto split = run({extra_eni("lrd_lwr_2slaves.xml")});
     INFO(split.out);

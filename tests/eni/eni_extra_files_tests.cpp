@@ -19,7 +19,7 @@ TEST_CASE("Hot-Connect groups are read with their IdentifyCmds", "[eni][extra]")
     const auto& gripper = eni->slaves[1].hot_connect.value();
     CHECK(gripper.group_name == "Gripper");
     CHECK(gripper.group_member_count == 2);
-    CHECK(gripper.source_line == 52);
+    CHECK(gripper.source_line == 56);
     REQUIRE(gripper.identify_cmds.size() == 2);
     const auto& alias = gripper.identify_cmds[0];
     CHECK(alias.transitions.empty());
@@ -32,14 +32,16 @@ TEST_CASE("Hot-Connect groups are read with their IdentifyCmds", "[eni][extra]")
     REQUIRE(alias.validate);
     CHECK(alias.validate->data == std::vector<std::uint8_t>{0x07, 0x00});
     CHECK(alias.validate->mask.empty());
-    CHECK(gripper.identify_cmds[1].validate.value().mask == std::vector<std::uint8_t>{0xff, 0xff, 0xff, 0xff});
+    CHECK(gripper.identify_cmds[1].validate.value().mask == std::vector<std::uint8_t>{0xff, 0x00, 0x00, 0x00});
 
     const auto& tool = eni->slaves[3].hot_connect.value();
     CHECK(tool.group_name == "Tool changer");
     CHECK(tool.group_member_count == 1);
-    REQUIRE(tool.identify_cmds.size() == 1);
-    CHECK(tool.identify_cmds[0].ado == 0x0134);
-    CHECK(tool.identify_cmds[0].requires_ == Requires::None);
+    REQUIRE(tool.identify_cmds.size() == 3);
+    CHECK(tool.identify_cmds[0].command == wire::Command::Apwr);
+    CHECK(tool.identify_cmds[0].ado == 0x0120);
+    CHECK(tool.identify_cmds[1].ado == 0x0134);
+    CHECK(tool.identify_cmds[1].requires_ == Requires::None);
     CHECK(eni->slaves[3].previous_ports.at(0).port == 'C');
 }
 

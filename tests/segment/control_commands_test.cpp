@@ -52,7 +52,7 @@ TEST_CASE("refused requests answer error: with the reason", "[control]") {
     CHECK(handle_control_line(segment, "power-off 9") == "error: position 9 is out of range 1..3");
     CHECK(handle_control_line(segment, "break 4") == "error: link 4 is out of range 0..3");
     CHECK(handle_control_line(segment, "remove-unknown 1") ==
-          "error: slave 1 is 'S1' from the ENI; only slaves added by insert-unknown can be removed");
+          "error: slave 1 is 'S1' from the ENI; only slaves added by insert-unknown, plug-unknown or plug-duplicate can be removed");
     CHECK(handle_control_line(segment, "bogus") == "error: unknown command 'bogus' (try 'help')");
     CHECK_THAT(handle_control_line(segment, "help"), Catch::StartsWith("ok commands: status; help; power-off K;"));
 }

@@ -93,3 +93,36 @@ TEST_CASE("impair names a cable, a loss and a duplication share and a delay", "[
     CHECK(refusal("impair main 1 1") ==
           "impair takes 4 arguments, got 3: impair main|red LOSS% DUP% DELAY_US");
 }
+
+TEST_CASE("the Hot-Connect commands name a group, a slave, a port and a state", "[control]") {
+    CHECK(parsed("group-off 2").command == ControlCommand::GroupOff);
+    CHECK(parsed("group-off 2").group == 2);
+    CHECK(parsed("group-on 1").command == ControlCommand::GroupOn);
+    CHECK(parsed("unplug-group 3").group == 3);
+    const auto plug = parsed("plug-group 1 4 D");
+    CHECK(plug.command == ControlCommand::PlugGroup);
+    CHECK(plug.group == 1);
+    CHECK(plug.at == 4);
+    CHECK(plug.port == 3);
+    const auto unknown = parsed("plug-unknown 2 C");
+    CHECK(unknown.command == ControlCommand::PlugUnknown);
+    CHECK(unknown.position == 2);
+    CHECK(unknown.port == 2);
+    const auto duplicate = parsed("plug-duplicate 5 1 2");
+    CHECK(duplicate.command == ControlCommand::PlugDuplicate);
+    CHECK(duplicate.position == 5);
+    CHECK(duplicate.at == 1);
+    CHECK(duplicate.port == 2);
+    CHECK(parsed("refuse-state 3 SAFEOP").state == 4);
+    CHECK(parsed("refuse-state 3 none").state == 0);
+    const auto selector = parsed("set-selector 2 0x65");
+    CHECK(selector.command == ControlCommand::SetSelector);
+    CHECK(selector.value == 0x65);
+    CHECK(refusal("plug-group 1 4 E") == "plug-group: PORT must be A, B, C or D (or 0..3), got 'E'");
+    CHECK(refusal("plug-group x 4 D") == "plug-group: N must be a decimal number in 0..65535, got 'x'");
+    CHECK(refusal("plug-duplicate 1 x D") == "plug-duplicate: J must be a decimal number in 0..65535, got 'x'");
+    CHECK(refusal("refuse-state 1 BOOT") == "refuse-state: STATE must be PREOP, SAFEOP, OP or none, got 'BOOT'");
+    CHECK(refusal("plug-group 1 4 D 5") == "plug-group takes 3 arguments, got 4: plug-group N K PORT");
+    const std::string usage = control_usage();
+    CHECK_THAT(usage, Catch::Contains("plug-group N K PORT") && Catch::Contains("impair main|red LOSS% DUP% DELAY_US"));
+}

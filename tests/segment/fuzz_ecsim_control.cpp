@@ -31,6 +31,28 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             again += (request->red_side ? " red " : " main ") + std::to_string(request->loss_percent) + " " +
                      std::to_string(request->duplicate_percent) + " " + std::to_string(request->delay_us);
             break;
+        case ControlCommand::SetSelector:
+            again += " " + std::to_string(request->position) + " " + std::to_string(request->value);
+            break;
+        case ControlCommand::GroupOff:
+        case ControlCommand::GroupOn:
+        case ControlCommand::UnplugGroup: again += " " + std::to_string(request->group); break;
+        case ControlCommand::PlugGroup:
+            again += " " + std::to_string(request->group) + " " + std::to_string(request->at) + " " +
+                     std::to_string(request->port);
+            break;
+        case ControlCommand::PlugUnknown:
+            again += " " + std::to_string(request->position) + " " + std::to_string(request->port);
+            break;
+        case ControlCommand::PlugDuplicate:
+            again += " " + std::to_string(request->position) + " " + std::to_string(request->at) + " " +
+                     std::to_string(request->port);
+            break;
+        case ControlCommand::RefuseState: {
+            static constexpr const char* kStates[] = {"none", "?", "PREOP", "?", "SAFEOP", "?", "?", "?", "OP"};
+            again += " " + std::to_string(request->position) + " " + (request->state <= 8 ? kStates[request->state] : "?");
+            break;
+        }
         default: again += " " + std::to_string(request->position); break;
     }
     const auto reparsed = ecpair::sim::parse_control_request(again);

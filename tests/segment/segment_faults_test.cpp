@@ -195,7 +195,7 @@ TEST_CASE("an unknown slave spliced into the ring and taken out again", "[segmen
     const auto refused = segment.remove_unknown_slave(2);
     REQUIRE_FALSE(refused);
     CHECK(refused.error().message ==
-          "slave 2 is 'S2' from the ENI; only slaves added by insert-unknown can be removed");
+          "slave 2 is 'S2' from the ENI; only slaves added by insert-unknown, plug-unknown or plug-duplicate can be removed");
 
     REQUIRE(segment.remove_unknown_slave(3));
     REQUIRE(segment.slave_count() == 5);

@@ -130,20 +130,30 @@ public:
         REQUIRE(loaded);
         eni = *loaded;
     }
-    bus::ScannedSlave found_as(std::size_t slave, std::uint16_t position) const {
+    // The slave as the bus shows it, with the identification value the ENI expects.
+    bus::ScannedSlave found_as(std::size_t slave, std::uint16_t position) {
         const auto& info = eni->slaves[slave].info;
         bus::ScannedSlave s;
         s.position = position;
         s.identity = bus::SlaveIdentity{info.vendor_id, info.product_code, info.revision_no, 0};
+        if (info.identification && info.identification->ado == bus::kIdentificationAlias) s.alias = *info.identification->value;
+        if (info.identification && info.identification->ado == bus::kIdentificationExplicitId) {
+            readings.explicit_device_ids.resize(std::max<std::size_t>(readings.explicit_device_ids.size(), position + 1u));
+            readings.explicit_device_ids[position] = *info.identification->value;
+        }
         return s;
     }
+    std::vector<bus::SlaveComparison> compare(const bus::ScanReport& report) const {
+        return bus::compare_with_eni(report, *eni, readings);
+    }
     std::shared_ptr<const eni::EniConfig> eni;
+    bus::IdentificationReadings readings;
 };
 
 TEST_CASE_METHOD(HotConnectEni, "An absent Hot-Connect group is optional and takes no position", "[sequencer][scan]") {
     // Coupler, then the tool changer right behind it: the gripper group (2 slaves) is not plugged in.
     const auto report = report_of({found_as(0, 0), found_as(3, 1)});
-    const auto result = bus::compare_with_eni(report, *eni);
+    const auto result = compare(report);
     REQUIRE(result.size() == 4);
     CHECK(bus::all_match(result));
     CHECK(result[1].match == SlaveMatch::Absent);
@@ -157,21 +167,21 @@ TEST_CASE_METHOD(HotConnectEni, "An absent Hot-Connect group is optional and tak
 TEST_CASE_METHOD(HotConnectEni, "Hot-Connect groups present, absent, or present but incomplete", "[sequencer][scan]") {
     SECTION("everything present") {
         const auto report = report_of({found_as(0, 0), found_as(1, 1), found_as(2, 2), found_as(3, 3)});
-        CHECK(bus::all_match(bus::compare_with_eni(report, *eni)));
+        CHECK(bus::all_match(compare(report)));
     }
     SECTION("all optional slaves absent") {
         const auto report = report_of({found_as(0, 0)});
-        CHECK(bus::all_match(bus::compare_with_eni(report, *eni)));
+        CHECK(bus::all_match(compare(report)));
     }
     SECTION("the head is there but its member is not: a mismatch") {
         const auto report = report_of({found_as(0, 0), found_as(1, 1), found_as(3, 2)});
-        const auto result = bus::compare_with_eni(report, *eni);
+        const auto result = compare(report);
         CHECK_FALSE(bus::all_match(result));
         CHECK(result[2].match == SlaveMatch::WrongIdentity);
     }
     SECTION("a mandatory slave missing is a mismatch") {
         const auto report = report_of({found_as(3, 0)});
-        const auto result = bus::compare_with_eni(report, *eni);
+        const auto result = compare(report);
         CHECK_FALSE(bus::all_match(result));
         CHECK(result[0].match == SlaveMatch::WrongIdentity);
     }

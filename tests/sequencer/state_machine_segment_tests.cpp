@@ -144,6 +144,48 @@ TEST_CASE("An absent Hot-Connect group is skipped and the slaves behind it reach
     CHECK(sim.segment.slave(2).station_address() == 1004);  // the tool changer, now at position 1
 }
 
+TEST_CASE("ETG.1020: a slave refusing SAFEOP with 0x0061 is taken through INIT and reaches OP",
+          "[sequencer][sm][segment][hotconnect]") {
+    const std::shared_ptr<const eni::EniConfig> eni = load_eni_copy("eni_extra/hotconnect_groups_4slaves.xml");
+    SimulatedBus sim(*eni);
+    // The gripper drive's SII alias is 7 (its identification); a rotary switch set to 7 races it.
+    REQUIRE(sim.segment.set_legacy_id_selector(2, 7));
+    REQUIRE(sim.segment.power_off(2));
+    REQUIRE(sim.segment.power_on(2));
+    VirtualClock clock;
+    master::EventQueue events;
+    MasterStateMachine machine(eni, sim.bus, {}, &events, clock);
+    const auto error = run_to(machine, MasterState::Op);
+    INFO((error ? error->message : std::string()));
+    REQUIRE_FALSE(error);
+    CHECK(all_in(sim, eni::SlaveState::Op));
+    CHECK(sim.segment.slave(2).station_alias() == 7);
+    const auto all = events.pop_all(std::chrono::milliseconds(0));
+    const bool updated = std::any_of(all.begin(), all.end(), [](const master::Event& e) {
+        return e.kind == master::EventKind::SlaveIdentificationUpdated && e.a == 1 && e.b == 7;
+    });
+    CHECK(updated);
+}
+
+TEST_CASE("ETG.1020: a slave whose new alias is not the ENI's is refused with both values named",
+          "[sequencer][sm][segment][hotconnect]") {
+    const std::shared_ptr<const eni::EniConfig> eni = load_eni_copy("eni_extra/hotconnect_groups_4slaves.xml");
+    SimulatedBus sim(*eni);
+    REQUIRE(sim.segment.set_legacy_id_selector(2, 9));
+    REQUIRE(sim.segment.power_off(2));
+    REQUIRE(sim.segment.power_on(2));
+    VirtualClock clock;
+    MasterStateMachine machine(eni, sim.bus, {}, nullptr, clock);
+    const auto error = run_to(machine, MasterState::Op);
+    // The startup scan already sees alias 9 where 7 belongs: the gripper group is refused,
+    // the rest of the bus goes to OP.
+    INFO((error ? error->message : std::string()));
+    REQUIRE_FALSE(error);
+    CHECK(machine.presence() == std::vector<bool>{true, false, false, true});
+    CHECK(al_state(sim, 1) == static_cast<std::uint8_t>(eni::SlaveState::Op));
+    CHECK(al_state(sim, 4) == static_cast<std::uint8_t>(eni::SlaveState::Op));
+}
+
 TEST_CASE("A slave in ERROR is acknowledged before its commands run", "[sequencer][sm][segment]") {
     const std::shared_ptr<const eni::EniConfig> eni = load_eni_copy("advantech_io_ring_4slaves.xml");
     SimulatedBus sim(*eni);

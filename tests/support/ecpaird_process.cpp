@@ -107,6 +107,12 @@ std::string EcpairdProcess::force_standby(bool forced) const {
     return command(request);
 }
 
+control::Response EcpairdProcess::call(const control::Request& request) const {
+    auto response = control::call(socket().string(), request);
+    if (!response) throw std::runtime_error(response.error().message);
+    return std::move(*response);
+}
+
 control::ImageHistoryReply EcpairdProcess::image_history() const {
     control::Request request;
     request.mutable_image_history();

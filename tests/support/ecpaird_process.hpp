@@ -61,6 +61,8 @@ public:
     // Forces this member to standby, or releases it; empty when accepted.
     std::string force_standby(bool forced) const;
     control::ImageHistoryReply image_history() const;
+    // Any request; the response as it came (throws when the daemon does not answer).
+    control::Response call(const control::Request& request) const;
 
     pid_t pid() const { return process_->pid(); }
 

@@ -27,6 +27,7 @@ ScannedSlave scan_slave(BusAccess& bus, std::uint16_t position) {
     }
     if (auto r = read_register(bus, address, wire::reg::kDlStatus, 2); r && r->wkc == 1) {
         slave.dl_status = load_le<std::uint16_t>(r->data, 0);
+        slave.dl_status_read = true;
     } else {
         note("DL status not readable");
     }

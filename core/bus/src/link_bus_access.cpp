@@ -86,7 +86,7 @@ Expected<DatagramReply, BusError> LinkBusAccess::exchange(const DatagramRequest&
                 datagram.length() != request.data.size()) {
                 continue;
             }
-            return DatagramReply{{datagram.data().begin(), datagram.data().end()}, datagram.wkc()};
+            return DatagramReply{{datagram.data().begin(), datagram.data().end()}, datagram.wkc(), datagram.irq()};
         }
         ++timeouts_;
         logger("bus")->debug("{} 0x{:08x}: no reply within {} ms (attempt {})", wire::to_string(request.command),

@@ -88,6 +88,7 @@ void check_slaves(std::vector<Slave>& slaves, const std::vector<Element>& elemen
     derive_ring_positions(slaves, elements);
     check_unique_phys_addrs(slaves, elements);
     check_previous_ports(slaves, elements);
+    check_hot_connect_groups(slaves, elements);
 }
 
 }  // namespace ecpair::eni::detail

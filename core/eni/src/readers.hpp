@@ -56,4 +56,7 @@ ProcessImage read_process_image(const Element& process_image);
 // `elements[i]` is the <Slave> element that slaves[i] came from.
 void check_slaves(std::vector<Slave>& slaves, const std::vector<Element>& elements);
 
+// ---- hot_connect_checks.cpp: the rules of Hot-Connect groups (run by check_slaves).
+void check_hot_connect_groups(const std::vector<Slave>& slaves, const std::vector<Element>& elements);
+
 }  // namespace ecpair::eni::detail

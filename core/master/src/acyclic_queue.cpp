@@ -143,6 +143,7 @@ void AcyclicQueue::complete(std::uint16_t batch_number, const wire::ConstFrameVi
         Pending* p = batch.items[i++];
         std::copy_n(d.data().begin(), std::min(d.data().size(), p->reply.data.size()), p->reply.data.begin());
         p->reply.wkc = d.wkc();
+        p->reply.irq = d.irq();
         finish(*p, std::nullopt);
     }
 }

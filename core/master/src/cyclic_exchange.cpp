@@ -22,6 +22,12 @@ std::size_t CyclicExchange::state_slot(eni::SlaveState state) {
 CyclicExchange::CyclicExchange(CyclicPlan plan) : plan_(std::move(plan)) {
     active_.resize(plan_.frames.size());
     last_state_slot_.assign(plan_.frames.size(), 3);
+    for (const auto& frame : plan_.frames) {
+        first_.push_back(expected_.size());
+        for (const auto& d : frame.datagrams) expected_.push_back(d.expected_wkc);
+    }
+    last_wkc_.assign(expected_.size(), 0);
+    frame_irq_.assign(plan_.frames.size(), 0);
     for (std::size_t f = 0; f < plan_.frames.size(); ++f) {
         const auto& datagrams = plan_.frames[f].datagrams;
         for (std::size_t s = 0; s < kCyclicStates.size(); ++s) {
@@ -64,17 +70,20 @@ bool CyclicExchange::counters_complete(std::size_t index, const wire::ConstFrame
     const auto slot = last_state_slot_[index];
     if (slot >= 3) return false;
     const auto& list = active_[index][slot];
-    const auto& datagrams = plan_.frames[index].datagrams;
     if (returned.datagram_count() != list.size()) return false;
     bool any = false;
     std::size_t i = 0;
     for (const auto d : returned) {
-        const PlannedDatagram& planned = datagrams[list[i++]];
-        if (!planned.expected_wkc) continue;
-        if (d.wkc() != *planned.expected_wkc) return false;
+        const auto& expected = expected_[first_[index] + list[i++]];
+        if (!expected) continue;
+        if (d.wkc() != *expected) return false;
         any = true;
     }
     return any;
+}
+
+void CyclicExchange::set_expected(const std::vector<std::optional<std::uint16_t>>& expected) {
+    std::copy_n(expected.begin(), std::min(expected.size(), expected_.size()), expected_.begin());
 }
 
 FrameCompletion CyclicExchange::complete(std::size_t index, const wire::ConstFrameView& returned, Bytes inputs,
@@ -89,7 +98,10 @@ FrameCompletion CyclicExchange::complete(std::size_t index, const wire::ConstFra
         return result;
     }
     std::size_t i = 0;
+    std::uint16_t irq = 0;
     for (const auto d : returned) {
+        irq = static_cast<std::uint16_t>(irq | d.irq());
+        const std::size_t flat = first_[index] + list[i];
         const PlannedDatagram& planned = datagrams[list[i++]];
         if (d.command() != planned.command || d.length() != planned.length) {
             result.layout_ok = false;
@@ -99,15 +111,23 @@ FrameCompletion CyclicExchange::complete(std::size_t index, const wire::ConstFra
         if (planned.input_offset && *planned.input_offset + planned.length <= inputs.size()) {
             std::copy(d.data().begin(), d.data().end(), inputs.begin() + *planned.input_offset);
         }
-        if (planned.expected_wkc && d.wkc() != *planned.expected_wkc) {
+        last_wkc_[flat] = d.wkc();
+        const auto& expected = expected_[flat];
+        if (expected && d.wkc() != *expected) {
             ++result.wkc_errors;
             if (mismatches.size() < mismatches.capacity()) {
-                mismatches.push_back(WkcMismatch{static_cast<std::uint16_t>(index), &planned, *planned.expected_wkc,
-                                                 d.wkc()});
+                mismatches.push_back(WkcMismatch{static_cast<std::uint16_t>(index), &planned, *expected, d.wkc()});
             }
         }
     }
+    frame_irq_[index] = irq;
     return result;
+}
+
+std::uint16_t CyclicExchange::irq() const {
+    std::uint16_t irq = 0;
+    for (const auto f : frame_irq_) irq = static_cast<std::uint16_t>(irq | f);
+    return irq;
 }
 
 }  // namespace ecpair::master

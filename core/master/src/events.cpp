@@ -47,6 +47,32 @@ std::string partner_differences(std::uint32_t mask) {
     return text.empty() ? std::string("something") : text;
 }
 
+std::string count_text(std::uint32_t count) { return count == 0xFFFF ? std::string("?") : fmt::format("{}", count); }
+
+std::string topology_result_text(std::uint32_t result) {
+    return result <= static_cast<std::uint32_t>(TopologyResult::Cancelled)
+               ? std::string(to_string(static_cast<TopologyResult>(result)))
+               : fmt::format("result {}", result);
+}
+
+std::string_view loop_text(std::uint32_t setting) {
+    switch (setting & 3) {
+        case 0: return "auto";
+        case 1: return "auto-close";
+        case 2: return "open";
+        default: return "closed";
+    }
+}
+
+std::string_view port_reason_text(std::uint32_t reason) {
+    switch (reason) {
+        case kPortBorderClose: return "border close: no group may join there";
+        case kPortBlockNode: return "block node: cut off what hangs behind it";
+        case kPortOpenBlocked: return "blocked port opened again";
+        default: return "operator request";
+    }
+}
+
 std::string ms_text(std::uint32_t ms) { return fmt::format("{} ms", ms); }
 
 std::string comm_timeout_text(const Event& e) {
@@ -150,6 +176,19 @@ std::string arbitration_text(const Event& e) {
 
 }  // namespace
 
+std::string_view to_string(TopologyResult result) {
+    switch (result) {
+        case TopologyResult::Ok: return "ok";
+        case TopologyResult::GroupsRefused: return "groups refused (a mismatch)";
+        case TopologyResult::MandatoryMissing: return "a mandatory slave is missing";
+        case TopologyResult::BringUpFailed: return "a group did not reach the master state";
+        case TopologyResult::ScanFailed: return "the bus could not be scanned";
+        case TopologyResult::Timeout: return "the bus did not settle within the detection timeout";
+        case TopologyResult::Cancelled: return "cancelled";
+    }
+    return "?";
+}
+
 std::string_view to_string(EventKind kind) {
     switch (kind) {
         case EventKind::MasterStateChanged: return "master-state-changed";
@@ -172,6 +211,15 @@ std::string_view to_string(EventKind kind) {
         case EventKind::Takeover: return "takeover";
         case EventKind::HandOff: return "hand-off";
         case EventKind::TopologyVerified: return "topology-verified";
+        case EventKind::TopologyChangeDetected: return "topology-change-detected";
+        case EventKind::TopologyChangeDone: return "topology-change-done";
+        case EventKind::DetectAddGroups: return "detect-add-groups";
+        case EventKind::ProbeAllGroups: return "probe-all-groups";
+        case EventKind::BusMismatchIdentification: return "bus-mismatch-identification";
+        case EventKind::BusMismatchPlace: return "bus-mismatch-place";
+        case EventKind::HotConnectAcceptPending: return "hot-connect-accept-pending";
+        case EventKind::SlaveIdentificationUpdated: return "slave-identification-updated";
+        case EventKind::PortLoopChanged: return "port-loop-changed";
         case EventKind::CommTimeout: return "comm-timeout";
         case EventKind::AllLinksLost: return "all-links-lost";
         case EventKind::LinksRestored: return "links-restored";
@@ -241,6 +289,33 @@ std::string describe(const Event& e) {
         case EventKind::HandOff: return prefix + handoff_text(e);
         case EventKind::TopologyVerified:
             return prefix + fmt::format("background scan {} the mirrored topology", e.a != 0 ? "confirms" : "contradicts");
+        case EventKind::TopologyChangeDetected:
+            return prefix + fmt::format("topology change: the AL status BRD counts {} slave(s), {} before", count_text(e.b),
+                                        count_text(e.a));
+        case EventKind::TopologyChangeDone:
+            return prefix + fmt::format("topology change done: {}; {} of {} optional group(s) present; {} WKC "
+                                        "deviation(s) put down to the change",
+                                        topology_result_text(e.a), e.b, e.c, e.d);
+        case EventKind::DetectAddGroups:
+        case EventKind::ProbeAllGroups:
+            return prefix + fmt::format("{}: {}; {} group(s) present of {} (mask 0x{:08x})",
+                                        e.kind == EventKind::DetectAddGroups ? "groups added" : "groups probed",
+                                        topology_result_text(e.a), e.c, e.b, e.d);
+        case EventKind::BusMismatchIdentification:
+            return prefix + fmt::format("bus mismatch at position {}: identification 0x{:04x} expected {}, read {}", e.a,
+                                        e.b, e.d, e.c > 0xFFFF ? std::string("nothing") : fmt::format("{}", e.c));
+        case EventKind::BusMismatchPlace:
+            return prefix + fmt::format("bus mismatch at position {}: it hangs on station {} port {} (position {})", e.a,
+                                        e.b, static_cast<char>('A' + (e.c & 3)), e.d);
+        case EventKind::HotConnectAcceptPending:
+            return prefix + fmt::format("{} Hot-Connect group(s) found (mask 0x{:08x}): waiting for an accept", e.a, e.b);
+        case EventKind::SlaveIdentificationUpdated:
+            return prefix + fmt::format("slave {}: AL status code 0x0061 (device identification value updated): its "
+                                        "ID selector is its station alias now ({}); re-initialised",
+                                        e.a, e.b);
+        case EventKind::PortLoopChanged:
+            return prefix + fmt::format("station {} port {}: {} ({})", e.a, static_cast<char>('A' + (e.b & 3)),
+                                        loop_text(e.c), port_reason_text(e.d));
         case EventKind::CommTimeout: return prefix + comm_timeout_text(e);
         case EventKind::AllLinksLost:
             return prefix + (e.a != 0 ? std::string("all links lost (MAIN and RED down): this ACTIVE master becomes "

@@ -22,6 +22,11 @@
 #include "ecpair/wire/source_mac.hpp"
 
 namespace ecpair::master {
+namespace {
+
+constexpr std::uint32_t kNoCount = 0xFFFF;  // TopologyChangeDetected: not known
+
+}  // namespace
 
 std::string_view to_string(RingState state) {
     switch (state) {
@@ -83,7 +88,8 @@ Master::Master(std::shared_ptr<const eni::EniConfig> eni, const MasterOptions& o
       image_(exchange_.plan().input_image_size, exchange_.plan().output_image_size, eni_->process_image),
       tracker_(wire::NicBytes::of(main.mac()), red ? wire::NicBytes::of(red->mac()) : wire::NicBytes{}),
       acyclic_(options.max_acyclic_frames_per_cycle),
-      slaves_(eni_->slaves.size()) {
+      slaves_(eni_->slaves.size()),
+      topology_watch_(exchange_.plan()) {
     snapshot_.inputs.assign(image_.inputs().size(), 0);
     snapshot_.outputs.assign(image_.outputs().size(), 0);
     in_flight_.reserve(256);
@@ -127,6 +133,7 @@ MasterStats Master::stats() const {
     s.frames_lost = stats_.frames_lost.load();
     s.cycles_incomplete = stats_.cycles_incomplete.load();
     s.wkc_errors = stats_.wkc_errors.load();
+    s.wkc_topology_deviations = stats_.wkc_topology_deviations.load();
     s.foreign_frames = stats_.foreign_frames.load();
     s.late_frames = stats_.late_frames.load();
     s.send_errors = stats_.send_errors.load();
@@ -207,6 +214,7 @@ void Master::complete_previous_cycle(link::Clock::time_point now) {
     bool ring_broken = false;
     bool lost_reported = false;
     std::optional<std::uint16_t> reachable;
+    std::uint64_t wkc_errors = 0;
     std::optional<std::uint16_t> answered_brd;  // the largest WKC of a returned cyclic BRD
     const bool sent_any = !in_flight_.empty();
     mismatches_.clear();
@@ -274,7 +282,7 @@ void Master::complete_previous_cycle(link::Clock::time_point now) {
         }
         const auto result = exchange_.complete(f.index, *view, image_.inputs(), mismatches_);
         if (!result.layout_ok) all_complete = false;
-        stats_.wkc_errors.fetch_add(result.wkc_errors, std::memory_order_relaxed);
+        wkc_errors += result.wkc_errors;
     }
     in_flight_.clear();
     if (answered_brd) slaves_reached_.store(*answered_brd);
@@ -286,12 +294,23 @@ void Master::complete_previous_cycle(link::Clock::time_point now) {
         }
     }
 
-    for (const WkcMismatch& m : mismatches_) {
-        const auto& datagrams = exchange_.plan().frames[m.frame].datagrams;
-        raise(EventKind::CyclicWkcError, m.frame, static_cast<std::uint32_t>(m.datagram - datagrams.data()), m.expected,
-              m.received);
+    // Deviations that a topology change explains are counted as such, not raised as errors.
+    const auto topology = topology_watch_.after_cycle(exchange_, mismatches_, expected_wkcs_pending_.load());
+    if (topology.detected_now) {
+        raise(EventKind::TopologyChangeDetected, topology.slaves_before.value_or(kNoCount),
+              topology.slaves_now.value_or(kNoCount));
     }
-    inputs_valid_ = any_cyclic && all_complete && mismatches_.empty();
+    if (topology.attributed) {
+        stats_.wkc_topology_deviations.fetch_add(wkc_errors, std::memory_order_relaxed);
+    } else {
+        stats_.wkc_errors.fetch_add(wkc_errors, std::memory_order_relaxed);
+        for (const WkcMismatch& m : mismatches_) {
+            const auto& datagrams = exchange_.plan().frames[m.frame].datagrams;
+            raise(EventKind::CyclicWkcError, m.frame, static_cast<std::uint32_t>(m.datagram - datagrams.data()),
+                  m.expected, m.received);
+        }
+    }
+    inputs_valid_ = any_cyclic && all_complete && (mismatches_.empty() || topology.attributed);
     if (any_cyclic && !all_complete) stats_.cycles_incomplete.fetch_add(1, std::memory_order_relaxed);
     if (use_red() && any_returned) observe_ring(ring_closed, ring_broken, reachable);
 }
@@ -335,7 +354,24 @@ void Master::observe_ring(bool closed, bool broken, std::optional<std::uint16_t>
     }
 }
 
+void Master::set_expected_wkcs(std::vector<std::optional<std::uint16_t>> expected) {
+    {
+        std::lock_guard lock(expected_mutex_);
+        expected_wkcs_ = std::move(expected);
+    }
+    expected_wkcs_pending_.store(true);
+}
+
 void Master::apply_requests() {
+    if (expected_wkcs_pending_.load()) {
+        // Copied into the exchange's fixed-size table; should the setter hold
+        // the lock right now, the next cycle takes them.
+        std::unique_lock lock(expected_mutex_, std::try_to_lock);
+        if (lock.owns_lock()) {
+            exchange_.set_expected(expected_wkcs_);
+            expected_wkcs_pending_.store(false);
+        }
+    }
     const auto requested = requested_state_.load();
     const auto current = state_.load();
     if (requested != current) {

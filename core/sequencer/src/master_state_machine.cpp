@@ -10,6 +10,7 @@
 #include "ecpair/common/bytes.hpp"
 #include "ecpair/common/log.hpp"
 #include "ecpair/sequencer/dc_start_time.hpp"
+#include "ecpair/sequencer/identification_update.hpp"
 #include "ecpair/wire/al_status.hpp"
 #include "ecpair/wire/datagram.hpp"
 #include "ecpair/wire/esc_registers.hpp"
@@ -117,6 +118,17 @@ std::vector<bool> MasterStateMachine::presence() const {
     return present_;
 }
 
+std::vector<std::uint16_t> MasterStateMachine::position_shift() const {
+    std::lock_guard lock(mutex_);
+    return position_shift_;
+}
+
+void MasterStateMachine::update_presence(std::vector<bool> present, std::vector<std::uint16_t> position_shift) {
+    std::lock_guard lock(mutex_);
+    if (present.size() == present_.size()) present_ = std::move(present);
+    if (position_shift.size() == position_shift_.size()) position_shift_ = std::move(position_shift);
+}
+
 bool MasterStateMachine::wait_idle(std::chrono::milliseconds timeout) const {
     std::unique_lock lock(mutex_);
     return changed_.wait_for(lock, timeout, [this] { return !pending_ && !running_; });
@@ -129,6 +141,11 @@ void MasterStateMachine::worker(std::stop_token stop) {
         if (stop.stop_requested()) return;
         running_ = true;
         last_error_.reset();
+        if (hooks_.on_start) {
+            lock.unlock();
+            hooks_.on_start();
+            lock.lock();
+        }
         std::optional<SequenceError> error;
         MasterState target{};
         for (;;) {
@@ -236,8 +253,9 @@ std::optional<SequenceError> MasterStateMachine::startup_scan(std::stop_token st
     {
         std::lock_guard lock(mutex_);
         present_ = outcome->present;
+        position_shift_ = outcome->position_shift;
     }
-    position_shift_ = outcome->position_shift;
+    if (hooks_.on_scan) hooks_.on_scan(*outcome);
     if (outcome->matches) return std::nullopt;
 
     const auto mismatches = outcome->mismatches();
@@ -248,7 +266,7 @@ std::optional<SequenceError> MasterStateMachine::startup_scan(std::stop_token st
 }
 
 std::optional<SequenceError> MasterStateMachine::run_slave(const SlavePlan& plan, eni::Transition t,
-                                                           std::stop_token stop) {
+                                                           std::stop_token stop, bool may_recover) {
     acknowledge_error(plan.slave_index, t);
     const auto context = context_for(plan.slave_index);
     if (plan.synthesized) {
@@ -256,7 +274,12 @@ std::optional<SequenceError> MasterStateMachine::run_slave(const SlavePlan& plan
     }
     for (const auto& step : plan.steps) {
         if (const auto* cmd = std::get_if<eni::EcatCmd>(&step)) {
-            if (auto r = init_cmds_.run(*cmd, context, stop); !r) return from_init_cmd(r.error(), t);
+            if (auto r = init_cmds_.run(*cmd, context, stop); !r) {
+                if (may_recover && t == eni::Transition::PS && is_identification_update(r.error())) {
+                    return recover_identification_update(plan, t, stop);
+                }
+                return from_init_cmd(r.error(), t);
+            }
             continue;
         }
         const auto& coe = std::get<eni::CoeInitCmd>(step);
@@ -278,12 +301,48 @@ std::optional<SequenceError> MasterStateMachine::run_slave(const SlavePlan& plan
     return std::nullopt;
 }
 
+// ETG.1020: the slave took its ID selector as its station alias and refused
+// SAFEOP with 0x0061. It goes through INIT, its identification is checked
+// against the alias it shows now, and INIT -> PREOP -> SAFEOP runs again for it.
+std::optional<SequenceError> MasterStateMachine::recover_identification_update(const SlavePlan& plan, eni::Transition t,
+                                                                               std::stop_token stop) {
+    const auto& slave = eni_->slaves[plan.slave_index];
+    auto log = logger("sequencer");
+    log->warn("slave '{}' (station {}): AL status code 0x0061 (device identification value updated, ETG.1020): "
+              "taking it through INIT",
+              slave.info.name, slave.info.phys_addr);
+    const auto alias = reinitialise_after_identification_update(
+        bus_, clock_, bus::SlaveAddress::station(slave.info.phys_addr), options_.cyclic_state_timeout, stop);
+    if (!alias) {
+        return SequenceError{SequenceFailure::InitCmd, *transition_source(t), *transition_target(t), plan.slave_index,
+                             fmt::format("transition {}: slave '{}': recovering from 0x0061: {}", eni::to_string(t),
+                                         slave.info.name, alias.error())};
+    }
+    raise(master::EventKind::SlaveIdentificationUpdated, static_cast<std::uint32_t>(plan.slave_index), *alias);
+    const auto& id = slave.info.identification;
+    if (id && id->enabled && id->ado == bus::kIdentificationAlias && id->value && *id->value != 0 && *id->value != *alias) {
+        return SequenceError{SequenceFailure::BusMismatch, *transition_source(t), *transition_target(t),
+                             plan.slave_index,
+                             fmt::format("slave '{}' (station {}) now identifies as station alias {}, the ENI expects {}",
+                                         slave.info.name, slave.info.phys_addr, *alias, *id->value)};
+    }
+    log->info("slave '{}' (station {}): station alias {} now; INIT -> PREOP -> SAFEOP again", slave.info.name,
+              slave.info.phys_addr, *alias);
+    std::vector<bool> only(eni_->slaves.size(), false);
+    only[plan.slave_index] = true;
+    const auto again = plan_transition(*eni_, eni::Transition::IP, only);
+    for (const auto& step : again.slaves) {
+        if (auto e = run_slave(step, eni::Transition::IP, stop, false)) return e;
+    }
+    return run_slave(plan, t, stop, false);
+}
+
 void MasterStateMachine::acknowledge_error(std::size_t slave_index, eni::Transition t) {
     const auto& slave = eni_->slaves[slave_index];
     // Before IP the station address may not be set yet (masters clear it): address by position then.
     const auto address =
         t == eni::Transition::IP
-            ? bus::SlaveAddress::position(static_cast<std::uint16_t>(slave.info.ring_position - position_shift_[slave_index]))
+            ? bus::SlaveAddress::position(static_cast<std::uint16_t>(slave.info.ring_position - position_shift()[slave_index]))
             : bus::SlaveAddress::station(slave.info.phys_addr);
     auto status = bus::read_register(bus_, address, wire::reg::kAlStatus, 6);
     if (!status || status->wkc != 1 || status->data.size() < 6) return;
@@ -328,7 +387,10 @@ CommandContext MasterStateMachine::context_for(std::size_t slave_index) const {
     context.owner = slave.info.name;
     context.station = slave.info.phys_addr;
     context.slave_index = slave_index;
-    context.position_shift = position_shift_[slave_index];
+    {
+        std::lock_guard lock(mutex_);
+        context.position_shift = position_shift_[slave_index];
+    }
     if (const auto reference = reference_clock_index(*eni_, presence())) {
         DcStartTimeParameters dc{bus::SlaveAddress::station(eni_->slaves[*reference].info.phys_addr), 0, 0};
         if (slave.dc) {

@@ -9,13 +9,15 @@ namespace ecpair::sequencer {
 
 SlaveMonitor::SlaveMonitor(std::shared_ptr<const eni::EniConfig> eni, bus::BusAccess& bus,
                            master::SlaveStateImage& image, master::EventQueue* events,
-                           std::function<bool()> addresses_assigned, std::chrono::milliseconds period)
+                           std::function<bool()> addresses_assigned, std::chrono::milliseconds period,
+                           bool report_presence)
     : eni_(std::move(eni)),
       bus_(bus),
       image_(image),
       events_(events),
       addresses_assigned_(std::move(addresses_assigned)),
       period_(period),
+      report_presence_(report_presence),
       thread_([this](std::stop_token stop) { run(stop); }) {}
 
 SlaveMonitor::~SlaveMonitor() {
@@ -51,12 +53,12 @@ void SlaveMonitor::poll_once() {
             entry.al_status = reply->data[0];
             entry.al_status_code = load_le<std::uint16_t>(reply->data, 4);
         }
-        const auto previous = image_.set(i, entry);
+        const auto previous = image_.set_observed(i, entry);
         if (previous.present != entry.present) {
             logger("slaves")->log(entry.present ? spdlog::level::info : spdlog::level::warn,
                                   "slave {} '{}' (station {}) is {}", i, eni_->slaves[i].info.name, station,
                                   entry.present ? "present" : "absent");
-            raise(master::EventKind::SlavePresence, static_cast<std::uint32_t>(i), entry.present ? 1 : 0);
+            if (report_presence_) raise(master::EventKind::SlavePresence, static_cast<std::uint32_t>(i), entry.present ? 1 : 0);
         }
         const wire::AlStatus status{entry.al_status};
         if (entry.present && status.error() && !(previous.present && wire::AlStatus{previous.al_status}.error())) {

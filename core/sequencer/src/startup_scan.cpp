@@ -8,6 +8,8 @@
 
 #include "ecpair/common/bytes.hpp"
 #include "ecpair/common/log.hpp"
+#include "ecpair/eni/hot_connect_groups.hpp"
+#include "ecpair/sequencer/bus_identification_probe.hpp"
 #include "ecpair/sequencer/transition_plan.hpp"
 #include "ecpair/wire/al_status.hpp"
 #include "ecpair/wire/esc_registers.hpp"
@@ -16,13 +18,6 @@ namespace ecpair::sequencer {
 namespace {
 
 constexpr std::uint8_t kIdRequest = 0x20;
-
-bool asks_for_explicit_id(const eni::EniConfig& eni) {
-    return std::any_of(eni.slaves.begin(), eni.slaves.end(), [](const eni::Slave& s) {
-        const auto& id = s.info.identification;
-        return id && id->ado == bus::kIdentificationExplicitId && id->value && *id->value != 0;
-    });
-}
 
 }  // namespace
 
@@ -67,32 +62,41 @@ Expected<ScanOutcome, bus::BusError> StartupScan::run(const eni::EniConfig& eni,
 
     ScanOutcome outcome;
     outcome.report = std::move(report).value();
-    if (asks_for_explicit_id(eni)) {
-        for (const auto& slave : outcome.report.slaves) {
-            outcome.readings.explicit_device_ids.push_back(
-                read_explicit_device_id(bus_, clock_, slave.position, kExplicitIdTimeout, stop));
-        }
+    const auto groups = eni::HotConnectGroups::of(eni);
+    BusIdentificationProbe probe(bus_, clock_, eni, stop);
+    auto match = bus::match_topology(outcome.report, eni, groups, probe);
+    outcome.readings.explicit_device_ids.assign(outcome.report.slaves.size(), std::nullopt);
+    for (const auto& [position, id] : probe.explicit_ids()) {
+        if (position < outcome.readings.explicit_device_ids.size()) outcome.readings.explicit_device_ids[position] = id;
     }
-    outcome.comparisons = bus::compare_with_eni(outcome.report, eni, outcome.readings);
-    outcome.matches = bus::all_match(outcome.comparisons);
+    outcome.comparisons = match.comparisons;
+    outcome.matches = !match.blocking();
 
+    // Mandatory slaves take part whatever the scan said (a mismatch stops the
+    // start anyway); an optional group only when it is present as configured.
     outcome.present.assign(eni.slaves.size(), true);
-    outcome.position_shift.assign(eni.slaves.size(), 0);
-    for (const auto& c : outcome.comparisons) {
-        if (c.configured_index && c.match == bus::SlaveMatch::Absent) outcome.present[*c.configured_index] = false;
+    for (std::size_t i = 0; i < eni.slaves.size(); ++i) {
+        if (groups.is_optional(i)) outcome.present[i] = match.groups[groups.group_of(i)] == bus::GroupState::Present;
     }
+    outcome.position_shift.assign(eni.slaves.size(), 0);
     std::uint16_t absent_so_far = 0;
     for (const auto index : ring_order(eni)) {
-        outcome.position_shift[index] = absent_so_far;
+        const auto& at = match.position[index];
+        outcome.position_shift[index] =
+            at && outcome.present[index] ? static_cast<std::uint16_t>(eni.slaves[index].info.ring_position - *at)
+                                         : absent_so_far;
         if (!outcome.present[index]) ++absent_so_far;
     }
+    outcome.groups = std::move(match.groups);
 
     auto log = logger("sequencer");
     log->info("startup scan: {} slave(s) found, {} configured: {}", outcome.report.responding, eni.slaves.size(),
               outcome.matches ? "bus matches the ENI" : "BUS MISMATCH");
     for (const auto& c : outcome.comparisons) {
-        if (c.is_mismatch()) {
+        if (c.is_mismatch() && (c.match == bus::SlaveMatch::Unexpected || !c.optional)) {
             log->error("bus mismatch: {}", c.describe());
+        } else if (c.is_mismatch()) {
+            log->warn("optional group refused: {}", c.describe());
         } else if (c.match == bus::SlaveMatch::Absent) {
             log->info("{}", c.describe());
         }

@@ -86,7 +86,8 @@ std::optional<AlOutcome> al_control_transition(const AlOutcome& current, AlContr
             case AlState::Init: next.status.state = AlState::Init; break;
             case AlState::Preop:
                 if (from == AlState::Init) {
-                    enter_if(AlState::Preop, AlState::Init, checks.mailbox_error(false));
+                    const std::uint16_t refused = checks.entry_refusal(AlState::Preop);
+                    enter_if(AlState::Preop, AlState::Init, refused != 0 ? refused : checks.mailbox_error(false));
                 } else if (from == AlState::Boot) {
                     reject(AlState::Boot, al_code::kInvalidStateChange);
                 } else {
@@ -106,7 +107,8 @@ std::optional<AlOutcome> al_control_transition(const AlOutcome& current, AlContr
                 break;
             case AlState::Safeop:
                 if (from == AlState::Preop || from == AlState::Safeop) {
-                    enter_if(AlState::Safeop, AlState::Preop, checks.process_data_error());
+                    const std::uint16_t refused = from == AlState::Preop ? checks.entry_refusal(AlState::Safeop) : 0;
+                    enter_if(AlState::Safeop, AlState::Preop, refused != 0 ? refused : checks.process_data_error());
                 } else if (from == AlState::Op) {
                     next.status.state = AlState::Safeop;
                 } else {
@@ -114,7 +116,9 @@ std::optional<AlOutcome> al_control_transition(const AlOutcome& current, AlContr
                 }
                 break;
             case AlState::Op:
-                if (from == AlState::Safeop || from == AlState::Op) {
+                if (from == AlState::Safeop) {
+                    enter_if(AlState::Op, AlState::Safeop, checks.entry_refusal(AlState::Op));
+                } else if (from == AlState::Op) {
                     next.status.state = AlState::Op;
                 } else {
                     reject(from, al_code::kInvalidStateChange);

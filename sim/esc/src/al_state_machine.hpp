@@ -9,7 +9,9 @@
 //  - I->P checks the mailbox SyncManagers (else INIT+ERR 0x0016), I->B the
 //    bootstrap ones (0x0015; 0x0013 when the slave has no bootstrap mailbox),
 //    P->S (and S->S) the process data SyncManagers (else PREOP+ERR,
-//    0x001D outputs / 0x001E inputs);
+//    0x001D outputs / 0x001E inputs); before those, the application may
+//    refuse the state (entry_refusal: the ETG.1020 race, a slave told to
+//    refuse): it stays in the state it was in, with ERR and that code;
 //  - down to any lower state of INIT/PREOP/SAFEOP is allowed, BOOT only from
 //    and to INIT, upward one step at a time; any other transition keeps the
 //    state and sets ERR with 0x0011 (OP->BOOT falls back to SAFEOP);
@@ -79,6 +81,9 @@ public:
     virtual bool has_mailbox() const = 0;
     virtual std::uint16_t process_data_error() const = 0;
     virtual std::uint16_t device_id() const = 0;
+    // The application refuses to enter `target` (Preop/Safeop/Op): the AL
+    // status code to report, 0 when it may.
+    virtual std::uint16_t entry_refusal(AlState target) const = 0;
 
 protected:
     ~AlChecks() = default;

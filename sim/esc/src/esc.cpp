@@ -35,6 +35,7 @@
 #include "esc_layout.hpp"
 #include "esc_memory.hpp"
 #include "fmmu.hpp"
+#include "legacy_id_selector.hpp"
 #include "mailbox_service.hpp"
 #include "physical_access.hpp"
 #include "port_logic.hpp"
@@ -81,8 +82,14 @@ struct Esc::Impl {
           checks(layout, sync_managers, memory),
           mailbox(memory, sync_managers, largest_slave_mailbox(layout)),
           application(memory, sync_managers, layout),
-          coe_context(memory, al, layout, log, owner) {
+          coe_context(memory, al, layout, log, owner),
+          legacy(log, owner) {
         checks.set_id_selector(description.id_selector);
+        checks.set_legacy(&legacy);
+        legacy.set(description.legacy_id_selector);
+        if (description.input_word_id) {
+            application.show_word(description.input_word_id->address, description.input_word_id->value);
+        }
         // A slave whose mailbox offers CoE (or that has CoE InitCmds) answers
         // SDOs from its object dictionary (docs/ESC_EMULATION.md "CoE server").
         if (layout.has_mailbox() && (layout.mailbox_protocols & eni::kCoE) != 0) {
@@ -125,6 +132,7 @@ struct Esc::Impl {
     MailboxService mailbox;
     SlaveApplication application;
     EscCoeContext coe_context;
+    LegacyIdSelector legacy;
 
     bool powered = false;
     std::array<std::optional<std::uint64_t>, kMaxPorts> arrival_seq{};
@@ -183,7 +191,12 @@ void Esc::Impl::run_slave_stack(bool al_control_written, bool sm_activation_chan
     if (!eeprom.loaded()) return;  // the PDI is not operational
     bool state_changed = false;
     if (sm_activation_changed) state_changed = al.on_sm_activation_changed(checks) || state_changed;
-    if (al_control_written) state_changed = al.on_control_written(checks) || state_changed;
+    if (al_control_written) {
+        const AlState before = al.state();
+        state_changed = al.on_control_written(checks) || state_changed;
+        legacy.after_request(AlControlWord::decode(memory.load<std::uint16_t>(reg::kAlControl)), before, al.state(),
+                             memory.load<std::uint16_t>(reg::kAlStatusCode), eeprom);
+    }
     if (state_changed) apply_state(al.state());
     mailbox.after_frame();
     application.after_frame(al.state());
@@ -254,6 +267,7 @@ void Esc::Impl::power_on() {
     fmmus.reset();
     dc.reset();
     const bool loaded = eeprom.power_on(memory);
+    if (loaded) legacy.on_power_on(memory, eeprom);
     physical.set_process_ram_available(loaded);
     ports.reset();
     al.reset();
@@ -324,6 +338,14 @@ void Esc::power_on() { impl_->power_on(); }
 void Esc::set_eeprom_alias(std::uint16_t alias) { impl_->eeprom.set_alias(alias); }
 
 void Esc::set_id_selector(std::uint16_t value) { impl_->checks.set_id_selector(value); }
+
+void Esc::set_legacy_id_selector(std::uint16_t value) { impl_->legacy.set(value); }
+
+void Esc::refuse_states_from(std::optional<eni::SlaveState> state) {
+    impl_->checks.refuse_from(state ? static_cast<std::uint8_t>(*state) : std::uint8_t{0});
+    impl_->log->info("{}: {}", impl_->owner,
+                     state ? fmt::format("refuses {} and above", eni::to_string(*state)) : std::string("refuses no state"));
+}
 
 void Esc::set_mailbox_handler(std::unique_ptr<MailboxHandler> handler) { impl_->mailbox.set_handler(std::move(handler)); }
 

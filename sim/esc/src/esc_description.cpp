@@ -7,6 +7,8 @@ namespace ecpair::sim {
 namespace {
 
 constexpr std::uint16_t kAliasRegister = 0x0012;
+constexpr std::uint16_t kExplicitIdRegister = 0x0134;
+constexpr std::uint16_t kProcessRam = 0x1000;
 
 }  // namespace
 
@@ -23,8 +25,10 @@ EscDescription EscDescription::from_eni(const eni::Slave& slave) {
     if (const auto& identification = slave.info.identification; identification && identification->value) {
         if (identification->ado == kAliasRegister) {
             description.alias = *identification->value;
-        } else {
+        } else if (identification->ado == kExplicitIdRegister) {
             description.id_selector = *identification->value;
+        } else if (identification->ado >= kProcessRam) {
+            description.input_word_id = EscDescription::InputWord{identification->ado, *identification->value};
         }
     }
     return description;

@@ -52,6 +52,8 @@ bool SiiEeprom::power_on(EscMemory& memory) {
     return loaded_;
 }
 
+std::uint16_t SiiEeprom::alias() const { return load_le<std::uint16_t>(image_, reg::sii::kAlias * 2U); }
+
 bool SiiEeprom::load_configuration(EscMemory& memory, bool first_load) {
     if (!sii_checksum_valid(image_)) {
         update_status(memory, kChecksumError | kNotLoaded, 0);

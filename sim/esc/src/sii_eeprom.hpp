@@ -33,6 +33,7 @@ public:
     const std::vector<std::uint8_t>& image() const { return image_; }
     // Rewrites word 4 and the checksum (the new alias shows after power-on).
     void set_alias(std::uint16_t alias);
+    std::uint16_t alias() const;  // word 4 as the EEPROM holds it now
 
     // Power-on: interface registers to their reset state, then the first load
     // of the configuration area. Returns whether it loaded (checksum right).

@@ -40,6 +40,9 @@ void SlaveApplication::after_frame(AlState state) {
         std::copy(outputs.begin(), outputs.end(), mirror.begin());
     }
     std::fill(mirror.begin() + static_cast<std::ptrdiff_t>(copied), mirror.end(), std::uint8_t{0});
+    if (word_address_ >= in.start && word_address_ + 2u <= in.end()) {
+        store_le<std::uint16_t>(inputs, word_address_ - in.start, word_value_);
+    }
 }
 
 }  // namespace ecpair::sim

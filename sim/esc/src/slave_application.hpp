@@ -7,6 +7,8 @@
 //                 SAFEOP: zeros (outputs are not applied in SAFEOP)
 //
 // An input SyncManager of less than 2 bytes gets the mirrored outputs only.
+// A slave identified by an input word shows its value at that address of the
+// input buffer on top of all that.
 // "Outputs" and "inputs" are the buffers of the first Outputs and Inputs
 // SyncManagers of the description (SM2/SM3 when it names none), as the
 // master configured them; a SyncManager that is disabled, deactivated or
@@ -27,6 +29,12 @@ public:
     SlaveApplication(EscMemory& memory, const SyncManagerUnit& sync_managers, const EscLayout& layout);
 
     void reset() { counter_ = 0; }
+    // Input-word identification: `value` at ESC address `address`, when it
+    // lies in the input buffer (written after the counter and the mirror).
+    void show_word(std::uint16_t address, std::uint16_t value) {
+        word_address_ = address;
+        word_value_ = value;
+    }
     void after_frame(AlState state);
 
 private:
@@ -37,6 +45,8 @@ private:
     int output_sm_;
     int input_sm_;
     std::uint16_t counter_ = 0;
+    std::uint16_t word_address_ = 0;  // 0: no identification word
+    std::uint16_t word_value_ = 0;
 };
 
 }  // namespace ecpair::sim

@@ -8,6 +8,8 @@
 namespace ecpair::sim {
 namespace {
 
+constexpr std::uint16_t kUnspecifiedError = 0x0001;
+
 bool matches(const SmChannel& channel, const eni::MailboxArea& area, std::uint8_t control) {
     return channel.start == area.start && channel.length == area.length && channel.control == control && channel.enabled;
 }
@@ -40,6 +42,14 @@ std::uint16_t SlaveStackChecks::process_data_error() const {
 
 std::uint16_t SlaveStackChecks::device_id() const {
     return id_selector_ != 0 ? id_selector_ : memory_.load<std::uint16_t>(wire::reg::kStationAlias);
+}
+
+std::uint16_t SlaveStackChecks::entry_refusal(AlState target) const {
+    if (legacy_) {
+        if (const std::uint16_t code = legacy_->refusal(target); code != 0) return code;
+    }
+    if (refuse_from_ != 0 && static_cast<std::uint8_t>(target) >= refuse_from_) return kUnspecifiedError;
+    return 0;
 }
 
 }  // namespace ecpair::sim

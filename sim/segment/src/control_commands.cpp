@@ -63,10 +63,10 @@ std::string format_status(const Segment& segment) {
         const auto& d = esc.description();
         text += fmt::format(
             " | {} name={} vendor={:#010x} product={:#010x} addr={:#06x} alias={:#06x} al={} powered={} unknown={} "
-            "ports={}",
+            "ports={} group={}",
             position, quoted(d.name), d.vendor_id, d.product_code, esc.station_address(), esc.station_alias(),
             wire::AlStatus{esc.al_status()}.to_string(), esc.powered() ? "yes" : "no",
-            segment.is_unknown(position) ? "yes" : "no", port_states(esc));
+            segment.is_unknown(position) ? "yes" : "no", port_states(esc), segment.group_of(position));
     }
     return control_ok(text);
 }
@@ -93,6 +93,34 @@ std::string execute_control_request(Segment& segment, const ControlRequest& requ
         case ControlCommand::SetId:
             return outcome(segment.set_id_selector(k, request.value),
                            fmt::format("slave {} ID selector {:#06x}", k, request.value));
+        case ControlCommand::GroupOff:
+            return outcome(segment.set_group_power(request.group, false), fmt::format("group {} powered off", request.group));
+        case ControlCommand::GroupOn:
+            return outcome(segment.set_group_power(request.group, true), fmt::format("group {} powered on", request.group));
+        case ControlCommand::PlugGroup:
+            return outcome(segment.plug_group(request.group, request.at, request.port),
+                           fmt::format("group {} plugged into slave {} port {}", request.group, request.at,
+                                       port_letter(request.port)));
+        case ControlCommand::UnplugGroup:
+            return outcome(segment.unplug_group(request.group), fmt::format("group {} unplugged", request.group));
+        case ControlCommand::PlugUnknown:
+            return outcome(segment.plug_unknown_slave(k, request.port),
+                           fmt::format("unknown slave plugged into slave {} port {} as slave {}", k,
+                                       port_letter(request.port), segment.slave_count() + 1));
+        case ControlCommand::PlugDuplicate:
+            return outcome(segment.plug_duplicate(k, request.at, request.port),
+                           fmt::format("a duplicate of slave {} plugged into slave {} port {} as slave {}", k,
+                                       request.at, port_letter(request.port), segment.slave_count() + 1));
+        case ControlCommand::RefuseState: {
+            const auto state = request.state == 0 ? std::nullopt
+                                                  : std::optional<eni::SlaveState>(static_cast<eni::SlaveState>(request.state));
+            return outcome(segment.refuse_states_from(k, state),
+                           state ? fmt::format("slave {} refuses {} and above", k, eni::to_string(*state))
+                                 : fmt::format("slave {} refuses no state", k));
+        }
+        case ControlCommand::SetSelector:
+            return outcome(segment.set_legacy_id_selector(k, request.value),
+                           fmt::format("slave {} ETG.1020 ID selector {} (read at its next power-on)", k, request.value));
         case ControlCommand::Impair:
             return control_error("impair acts on ecsim's cables, not on the segment: send it to a running ecsim");
     }

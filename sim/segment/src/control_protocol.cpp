@@ -15,25 +15,37 @@ namespace ecpair::sim {
 
 namespace {
 
+// What each argument word is.
+enum class Arg : std::uint8_t { Position, Value, Group, At, Port, State };
+
 struct CommandSyntax {
     ControlCommand command;
     std::string_view word;
     std::string_view arguments;  // as shown in the usage text
     int argument_count;
+    std::array<Arg, 3> kinds;
 };
 
-constexpr std::array<CommandSyntax, 11> kSyntax{{
-    {ControlCommand::Status, "status", "", 0},
-    {ControlCommand::Help, "help", "", 0},
-    {ControlCommand::PowerOff, "power-off", "K", 1},
-    {ControlCommand::PowerOn, "power-on", "K", 1},
-    {ControlCommand::Break, "break", "K", 1},
-    {ControlCommand::Repair, "repair", "K", 1},
-    {ControlCommand::InsertUnknown, "insert-unknown", "K", 1},
-    {ControlCommand::RemoveUnknown, "remove-unknown", "K", 1},
-    {ControlCommand::SetAlias, "set-alias", "K VALUE", 2},
-    {ControlCommand::SetId, "set-id", "K VALUE", 2},
-    {ControlCommand::Impair, "impair", "main|red LOSS% DUP% DELAY_US", 4},
+constexpr std::array<CommandSyntax, 19> kSyntax{{
+    {ControlCommand::Status, "status", "", 0, {}},
+    {ControlCommand::Help, "help", "", 0, {}},
+    {ControlCommand::PowerOff, "power-off", "K", 1, {Arg::Position}},
+    {ControlCommand::PowerOn, "power-on", "K", 1, {Arg::Position}},
+    {ControlCommand::Break, "break", "K", 1, {Arg::Position}},
+    {ControlCommand::Repair, "repair", "K", 1, {Arg::Position}},
+    {ControlCommand::InsertUnknown, "insert-unknown", "K", 1, {Arg::Position}},
+    {ControlCommand::RemoveUnknown, "remove-unknown", "K", 1, {Arg::Position}},
+    {ControlCommand::SetAlias, "set-alias", "K VALUE", 2, {Arg::Position, Arg::Value}},
+    {ControlCommand::SetId, "set-id", "K VALUE", 2, {Arg::Position, Arg::Value}},
+    {ControlCommand::GroupOff, "group-off", "N", 1, {Arg::Group}},
+    {ControlCommand::GroupOn, "group-on", "N", 1, {Arg::Group}},
+    {ControlCommand::PlugGroup, "plug-group", "N K PORT", 3, {Arg::Group, Arg::At, Arg::Port}},
+    {ControlCommand::UnplugGroup, "unplug-group", "N", 1, {Arg::Group}},
+    {ControlCommand::PlugUnknown, "plug-unknown", "K PORT", 2, {Arg::Position, Arg::Port}},
+    {ControlCommand::PlugDuplicate, "plug-duplicate", "K J PORT", 3, {Arg::Position, Arg::At, Arg::Port}},
+    {ControlCommand::RefuseState, "refuse-state", "K STATE", 2, {Arg::Position, Arg::State}},
+    {ControlCommand::SetSelector, "set-selector", "K VALUE", 2, {Arg::Position, Arg::Value}},
+    {ControlCommand::Impair, "impair", "main|red LOSS% DUP% DELAY_US", 4, {}},  // parsed by parse_impairment
 }};
 
 constexpr std::size_t kMaxWords = 5;
@@ -62,6 +74,23 @@ std::optional<std::uint32_t> parse_number(std::string_view word, bool hex_allowe
     const auto [end, error] = std::from_chars(word.data(), word.data() + word.size(), value, base);
     if (error != std::errc() || end != word.data() + word.size() || value > max) return std::nullopt;
     return value;
+}
+
+// A port letter A..D or number 0..3.
+std::optional<int> parse_port(std::string_view word) {
+    if (word.size() != 1) return std::nullopt;
+    if (word[0] >= 'A' && word[0] <= 'D') return word[0] - 'A';
+    if (word[0] >= '0' && word[0] <= '3') return word[0] - '0';
+    return std::nullopt;
+}
+
+// PREOP, SAFEOP, OP as AL state values, none as 0.
+std::optional<std::uint8_t> parse_state(std::string_view word) {
+    if (word == "PREOP") return std::uint8_t{2};
+    if (word == "SAFEOP") return std::uint8_t{4};
+    if (word == "OP") return std::uint8_t{8};
+    if (word == "none") return std::uint8_t{0};
+    return std::nullopt;
 }
 
 // A response must stay on one line: control characters (slave names from
@@ -150,22 +179,53 @@ Expected<ControlRequest, ControlParseError> parse_control_request(std::string_vi
     ControlRequest request;
     request.command = syntax->command;
     if (syntax->command == ControlCommand::Impair) return parse_impairment(request, words);
-    if (syntax->argument_count >= 1) {
-        const auto position = parse_number(words[1], false, 0xFFFF);
-        if (!position) {
-            return unexpected(ControlParseError{fmt::format("{}: K must be a decimal number in 0..65535, got '{}'",
-                                                            syntax->word, printable(words[1]))});
+    for (int n = 0; n < syntax->argument_count; ++n) {
+        const std::string_view word = words[static_cast<std::size_t>(n) + 1];
+        const Arg kind = syntax->kinds[static_cast<std::size_t>(n)];
+        switch (kind) {
+            case Arg::Position:
+            case Arg::Group:
+            case Arg::At: {
+                const auto number = parse_number(word, false, 0xFFFF);
+                // The argument's name in the usage text: N, K, or J (K for plug-group's slave).
+                const bool plug_group = syntax->command == ControlCommand::PlugGroup;
+                const std::string_view label = kind == Arg::Group ? "N" : kind == Arg::At && !plug_group ? "J" : "K";
+                if (!number) {
+                    return unexpected(ControlParseError{fmt::format("{}: {} must be a decimal number in 0..65535, got '{}'",
+                                                                    syntax->word, label, printable(word))});
+                }
+                (kind == Arg::Position ? request.position : kind == Arg::Group ? request.group : request.at) = *number;
+                break;
+            }
+            case Arg::Value: {
+                const auto value = parse_number(word, true, 0xFFFF);
+                if (!value) {
+                    return unexpected(ControlParseError{
+                        fmt::format("{}: VALUE must be a number in 0..65535 (decimal or 0x hex), got '{}'", syntax->word,
+                                    printable(word))});
+                }
+                request.value = static_cast<std::uint16_t>(*value);
+                break;
+            }
+            case Arg::Port: {
+                const auto port = parse_port(word);
+                if (!port) {
+                    return unexpected(ControlParseError{
+                        fmt::format("{}: PORT must be A, B, C or D (or 0..3), got '{}'", syntax->word, printable(word))});
+                }
+                request.port = *port;
+                break;
+            }
+            case Arg::State: {
+                const auto state = parse_state(word);
+                if (!state) {
+                    return unexpected(ControlParseError{fmt::format(
+                        "{}: STATE must be PREOP, SAFEOP, OP or none, got '{}'", syntax->word, printable(word))});
+                }
+                request.state = *state;
+                break;
+            }
         }
-        request.position = *position;
-    }
-    if (syntax->argument_count == 2) {
-        const auto value = parse_number(words[2], true, 0xFFFF);
-        if (!value) {
-            return unexpected(
-                ControlParseError{fmt::format("{}: VALUE must be a number in 0..65535 (decimal or 0x hex), got '{}'",
-                                              syntax->word, printable(words[2]))});
-        }
-        request.value = static_cast<std::uint16_t>(*value);
     }
     return request;
 }

@@ -42,6 +42,8 @@
 #include <cassert>
 
 #include "ecpair/common/log.hpp"
+#include "ecpair/eni/eni_topology.hpp"
+#include "ecpair/eni/hot_connect_groups.hpp"
 #include "ecpair/wire/frame.hpp"
 
 namespace ecpair::sim {
@@ -105,7 +107,7 @@ EscDescription unknown_slave_description() {
 }
 
 Segment::Segment(std::vector<Esc> escs, Topology topology, SegmentOptions options)
-    : escs_(std::move(escs)), unknown_(escs_.size(), false), topology_(std::move(topology)), options_(options) {
+    : escs_(std::move(escs)), origins_(escs_.size()), topology_(std::move(topology)), options_(options) {
     update_links(/*announce=*/false);  // the initial links are no news
 }
 
@@ -125,7 +127,7 @@ Expected<Segment, TopologyError> Segment::build(std::vector<SlaveSpec> specs, Se
     placed.reserve(specs.size());
     for (std::size_t i = 0; i < specs.size(); ++i) {
         placed.push_back(TopologySlave{escs[i].description().name, specs[i].phys_addr, masks[i], specs[i].previous_port,
-                                       specs[i].source_line});
+                                       specs[i].source_line, specs[i].floating});
     }
     auto topology = Topology::from_slaves(placed);
     if (!topology) {
@@ -133,17 +135,26 @@ Expected<Segment, TopologyError> Segment::build(std::vector<SlaveSpec> specs, Se
         error.file = file;
         return unexpected(std::move(error));
     }
-    return Segment(std::move(escs), std::move(topology).value(), options);
+    Segment segment(std::move(escs), std::move(topology).value(), options);
+    for (std::size_t i = 0; i < specs.size(); ++i) {
+        segment.origins_[i].group = specs[i].group;
+        segment.group_count_ = std::max(segment.group_count_, specs[i].group);
+        const bool first_of_group = specs[i].group != 0 && (i == 0 || specs[i - 1].group != specs[i].group);
+        segment.origins_[i].group_head = first_of_group;
+    }
+    return segment;
 }
 
 Expected<Segment, TopologyError> Segment::from_eni(const eni::EniConfig& config, SegmentOptions options) {
     std::vector<SlaveSpec> specs;
     specs.reserve(config.slaves.size());
-    for (const auto& slave : config.slaves) {
+    const auto groups = eni::HotConnectGroups::of(config);
+    for (std::size_t i = 0; i < config.slaves.size(); ++i) {
+        const auto& slave = config.slaves[i];
         const auto* previous = selected_previous_port(slave);
         specs.push_back(SlaveSpec{EscDescription::from_eni(slave), slave.info.phys_addr,
                                   previous ? std::optional<eni::PreviousPort>(*previous) : std::nullopt,
-                                  slave.source_line});
+                                  slave.source_line, groups.group_of(i), eni::is_floating_head(config, i)});
     }
     return build(std::move(specs), options, config.source_path);
 }
@@ -401,7 +412,7 @@ Expected<void, FaultError> Segment::insert_unknown_slave(std::size_t position) {
         return unexpected(FaultError{inserted.error().message});
     }
     escs_.insert(escs_.begin() + static_cast<std::ptrdiff_t>(index), std::move(esc));
-    unknown_.insert(unknown_.begin() + static_cast<std::ptrdiff_t>(index), true);
+    origins_.insert(origins_.begin() + static_cast<std::ptrdiff_t>(index), Origin{true, 0, false});
     segment_log().info("unknown slave (vendor {:#010x}) inserted as slave {}", kUnknownSlaveVendorId, position);
 
     const std::array<std::size_t, 2> replugged{*topology_.cable_at(Endpoint::of_port(index, 0)),
@@ -413,9 +424,10 @@ Expected<void, FaultError> Segment::insert_unknown_slave(std::size_t position) {
 Expected<void, FaultError> Segment::remove_unknown_slave(std::size_t position) {
     const auto index = slave_index(position);
     if (!index) return unexpected(index.error());
-    if (!unknown_[*index]) {
+    if (!origins_[*index].added) {
         return unexpected(
-            FaultError{fmt::format("slave {} is '{}' from the ENI; only slaves added by insert-unknown can be removed",
+            FaultError{fmt::format("slave {} is '{}' from the ENI; only slaves added by insert-unknown, "
+                                   "plug-unknown or plug-duplicate can be removed",
                                    position, escs_[*index].description().name)});
     }
     // Where the slave's upstream cable came from: after the removal that end
@@ -429,7 +441,7 @@ Expected<void, FaultError> Segment::remove_unknown_slave(std::size_t position) {
         return unexpected(FaultError{removed.error().message});
     }
     escs_.erase(escs_.begin() + static_cast<std::ptrdiff_t>(*index));
-    unknown_.erase(unknown_.begin() + static_cast<std::ptrdiff_t>(*index));
+    origins_.erase(origins_.begin() + static_cast<std::ptrdiff_t>(*index));
     segment_log().info("unknown slave {} removed", position);
 
     if (upstream) {

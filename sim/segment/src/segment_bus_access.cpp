@@ -37,7 +37,7 @@ Expected<bus::DatagramReply, bus::BusError> SegmentBusAccess::exchange(const bus
         return unexpected(bus::BusError{bus::BusErrc::Timeout, "the frame came back unreadable"});
     }
     const auto datagram = *view->begin();
-    return bus::DatagramReply{{datagram.data().begin(), datagram.data().end()}, datagram.wkc()};
+    return bus::DatagramReply{{datagram.data().begin(), datagram.data().end()}, datagram.wkc(), datagram.irq()};
 }
 
 void SegmentBusAccess::refuse(std::optional<bus::BusErrc> reason) {

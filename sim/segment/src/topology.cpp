@@ -107,10 +107,15 @@ Expected<Endpoint, TopologyError> upstream_port_of(std::span<const TopologySlave
 
 // The ring's return: the last slave's port B when free, else the first free
 // port walking back from the end of the line; nullopt when all are taken.
-std::optional<Endpoint> red_port(std::span<const TopologySlave> slaves, const PortOwners& taken_by) {
-    const std::size_t last = slaves.size() - 1;
+std::optional<Endpoint> red_port(std::span<const TopologySlave> slaves, const PortOwners& taken_by,
+                                 const std::vector<bool>& connected) {
+    std::size_t last = slaves.size();
+    while (last > 0 && !connected[last - 1]) --last;
+    if (last == 0) return std::nullopt;
+    --last;
     if ((slaves[last].ports & port_bit(1)) != 0 && !taken_by[last][1]) return Endpoint::of_port(last, 1);
-    for (std::size_t k = slaves.size(); k-- > 0;) {
+    for (std::size_t k = last + 1; k-- > 0;) {
+        if (!connected[k]) continue;
         for (const int p : kDownstreamOrder) {
             if ((slaves[k].ports & port_bit(p)) != 0 && !taken_by[k][static_cast<std::size_t>(p)]) {
                 return Endpoint::of_port(k, p);
@@ -154,6 +159,7 @@ Expected<Topology, TopologyError> Topology::from_slaves(std::span<const Topology
 
     // taken_by[i][p]: what hangs on port p of slave i, for the error message.
     PortOwners taken_by(slaves.size());
+    std::vector<bool> connected(slaves.size(), false);  // reachable from MAIN
     for (std::size_t i = 0; i < slaves.size(); ++i) {
         const auto& slave = slaves[i];
         if ((slave.ports & port_bit(0)) == 0) {
@@ -163,14 +169,19 @@ Expected<Topology, TopologyError> Topology::from_slaves(std::span<const Topology
             // The first slave's PreviousPort, if any, would name the master: it always hangs on MAIN.
             cables.push_back(Cable{Endpoint::of_side(Side::Main), Endpoint::of_port(0, 0), true});
             taken_by[0][0] = "the MAIN side";
+            connected[0] = true;
             continue;
         }
+        if (slave.floating) continue;
         const auto upstream = upstream_port_of(slaves, i, taken_by);
         if (!upstream) return unexpected(upstream.error());
         taken_by[upstream->slave][static_cast<std::size_t>(upstream->port)] = slave_label(slave, i);
         cables.push_back(Cable{*upstream, Endpoint::of_port(i, 0), true});
+        connected[i] = connected[upstream->slave];
     }
-    if (const auto red = red_port(slaves, taken_by)) cables.push_back(Cable{*red, Endpoint::of_side(Side::Red), true});
+    if (const auto red = red_port(slaves, taken_by, connected)) {
+        cables.push_back(Cable{*red, Endpoint::of_side(Side::Red), true});
+    }
     return Topology(std::move(ports), std::move(cables));
 }
 
@@ -312,6 +323,46 @@ Expected<void, TopologyError> Topology::remove_slave(std::size_t index) {
             if (!end->is_side() && end->slave > index) --end->slave;
         }
     }
+    reindex();
+    return {};
+}
+
+Expected<void, TopologyError> Topology::plug(const Endpoint& upstream, std::size_t slave) {
+    if (slave >= slave_count()) return unexpected(TopologyError{{}, 0, fmt::format("there is no slave {}", slave + 1)});
+    if (!upstream.is_side() && (upstream.slave >= slave_count() || !has_port(upstream.slave, upstream.port))) {
+        return unexpected(TopologyError{{}, 0, fmt::format("{} does not exist", describe(upstream))});
+    }
+    if (upstream == Endpoint::of_port(slave, 0)) {
+        return unexpected(TopologyError{{}, 0, "a slave cannot be plugged into itself"});
+    }
+    if (cable_at(upstream)) return unexpected(TopologyError{{}, 0, fmt::format("{} already has a cable", describe(upstream))});
+    if (cable_at(Endpoint::of_port(slave, 0))) {
+        return unexpected(TopologyError{{}, 0, fmt::format("slave {} port A already has a cable", slave + 1)});
+    }
+    cables_.push_back(Cable{upstream, Endpoint::of_port(slave, 0), true});
+    reindex();
+    return {};
+}
+
+Expected<Endpoint, TopologyError> Topology::unplug(std::size_t slave) {
+    if (slave >= slave_count()) return unexpected(TopologyError{{}, 0, fmt::format("there is no slave {}", slave + 1)});
+    const Endpoint port0 = Endpoint::of_port(slave, 0);
+    const auto cable = cable_at(port0);
+    if (!cable) return unexpected(TopologyError{{}, 0, fmt::format("slave {} is not plugged in", slave + 1)});
+    const Endpoint upstream = peer(*cable, port0);
+    cables_.erase(cables_.begin() + static_cast<std::ptrdiff_t>(*cable));
+    reindex();
+    return upstream;
+}
+
+Expected<void, TopologyError> Topology::attach_slave(PortMask ports, const Endpoint& upstream) {
+    if ((ports & port_bit(0)) == 0) return unexpected(TopologyError{{}, 0, "an attached slave needs port A"});
+    if (!upstream.is_side() && (upstream.slave >= slave_count() || !has_port(upstream.slave, upstream.port))) {
+        return unexpected(TopologyError{{}, 0, fmt::format("{} does not exist", describe(upstream))});
+    }
+    if (cable_at(upstream)) return unexpected(TopologyError{{}, 0, fmt::format("{} already has a cable", describe(upstream))});
+    slave_ports_.push_back(ports);
+    cables_.push_back(Cable{upstream, Endpoint::of_port(slave_ports_.size() - 1, 0), true});
     reindex();
     return {};
 }

@@ -291,6 +291,25 @@ Expected<DaemonSettings, ConfigError> parse_daemon_settings(const std::string& t
         if (!tap->mac) tap->mac = tap_bridge::default_mac(s.name, tap->name);
         s.tap = std::move(*tap);
     }
+    if (proto.has_hot_connect()) {
+        const auto& h = proto.hot_connect();
+        auto& out = s.hot_connect;
+        switch (h.mode()) {
+            case config::HotConnect::MANUAL_PREOP: out.mode = HotConnectMode::ManualPreop; break;
+            case config::HotConnect::MANUAL_NORESET: out.mode = HotConnectMode::ManualNoReset; break;
+            default: out.mode = HotConnectMode::Automatic; break;
+        }
+        out.border_close = h.border_close();
+        if (h.has_detection_timeout_ms()) {
+            constexpr std::uint32_t kMin = 100;
+            constexpr std::uint32_t kMax = 600000;
+            if (h.detection_timeout_ms() < kMin || h.detection_timeout_ms() > kMax) {
+                return fail("hot_connect.detection_timeout_ms",
+                            fmt::format("must be {}..{} ms (got {})", kMin, kMax, h.detection_timeout_ms()));
+            }
+            out.detection_timeout = std::chrono::milliseconds(h.detection_timeout_ms());
+        }
+    }
     return s;
 }
 

@@ -93,10 +93,17 @@ void ControlServer::Session::handle(const Request& request) {
             break;
         case Request::kSwitchover: answer(response, handler.switchover(request.switchover())); break;
         case Request::kForceStandby: answer(response, handler.force_standby(request.force_standby())); break;
+        case Request::kHcGroups:
+        case Request::kHcAccept:
+        case Request::kHcForce:
+        case Request::kHcBlockNode:
+        case Request::kHcOpenBlockedPorts:
+        case Request::kHcSetPort:
+        case Request::kHcSetAlias: response = handler.hot_connect(request); break;
         case Request::KIND_NOT_SET:
             response.set_error(
                 "empty request: set one of status, watch_events, set_master_state, set_red_state, image_history, "
-                "switchover, force_standby");
+                "switchover, force_standby, hc_*");
             break;
     }
     send(response);

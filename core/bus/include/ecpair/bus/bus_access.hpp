@@ -27,6 +27,9 @@ struct DatagramRequest {
 struct DatagramReply {
     std::vector<std::uint8_t> data;
     std::uint16_t wkc = 0;
+    // The IRQ field as it came back: the ECAT events (0x0210 AND the mask
+    // 0x0200) of the slaves it passed, ORed.
+    std::uint16_t irq = 0;
 };
 
 enum class BusErrc : std::uint8_t {

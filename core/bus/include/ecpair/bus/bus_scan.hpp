@@ -29,6 +29,7 @@ struct ScannedSlave {
     wire::AlStatus al_status;
     std::uint16_t al_status_code = 0;
     std::uint16_t dl_status = 0;
+    bool dl_status_read = false;            // false: dl_status says nothing (the ports are unknown)
     std::optional<SlaveIdentity> identity;  // nullopt when the SII could not be read
     std::string error;                      // why something could not be read
 };

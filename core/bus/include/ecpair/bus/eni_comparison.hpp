@@ -11,7 +11,8 @@
 // followers in ring order). A group is present when the slave found where
 // its head belongs matches the head; then its members are compared one by
 // one like mandatory slaves. An absent group takes no ring position, so the
-// slaves behind it are expected that many positions earlier.
+// slaves behind it are expected that many positions earlier. The walk that
+// decides this is topology_match.hpp; this is its result in one list.
 
 #include <cstdint>
 #include <optional>
@@ -54,8 +55,12 @@ struct SlaveComparison {
     const ScannedSlave* found = nullptr;           // points into the ScanReport
     bool optional = false;                         // member of a Hot-Connect group
     std::optional<IdentificationCheck> identification;  // when the ENI asks for one
-    std::optional<std::uint16_t> previous_station;  // from the ENI's PreviousPort (or the previous slave)
+    // Where it hangs: found slaves as the bus shows it, missing ones as the
+    // ENI configures it (PreviousPort, or the previous slave).
+    std::optional<std::uint16_t> previous_station;
     std::optional<char> previous_port;
+    std::optional<std::uint16_t> previous_position;  // the bus position of the previous slave, when found
+    std::string note;  // why an unexpected slave is unexpected ("duplicate of ...", "belongs ...")
 
     // Whether this entry keeps the bus from matching the ENI.
     bool is_mismatch() const { return match != SlaveMatch::Match && match != SlaveMatch::Absent; }

@@ -2,10 +2,16 @@
 // Turns the cyclic plan into frames every cycle and their returns into the
 // input image: fills each datagram's written data from the output image,
 // copies each datagram's read data into the input image, and checks every
-// working counter the ENI gives (<Cnt>). Nothing is allocated per cycle:
-// the per-state datagram lists are computed at construction.
+// working counter the ENI gives (<Cnt>) -- as corrected for the slaves on
+// the bus now (Hot-Connect: an absent group does not answer). Nothing is
+// allocated per cycle: the per-state datagram lists are computed at
+// construction.
+//
+// Datagrams are numbered flat, frame by frame in plan order (flat_index);
+// that numbering is how corrected WKCs and the last WKCs received are given.
 
 #include <array>
+#include <optional>
 #include <cstdint>
 #include <vector>
 
@@ -52,6 +58,16 @@ public:
     FrameCompletion complete(std::size_t index, const wire::ConstFrameView& returned, Bytes inputs,
                              std::vector<WkcMismatch>& mismatches);
 
+    std::size_t flat_index(std::size_t frame, std::size_t datagram) const { return first_[frame] + datagram; }
+    std::size_t datagram_count() const { return expected_.size(); }
+    // The expected WKC of every datagram (flat); no allocation (the size is fixed).
+    void set_expected(const std::vector<std::optional<std::uint16_t>>& expected);
+    std::optional<std::uint16_t> expected(std::size_t flat) const { return expected_[flat]; }
+    // The WKC a datagram came back with last (0 before it ever did).
+    std::uint16_t last_wkc(std::size_t flat) const { return last_wkc_[flat]; }
+    // The IRQ fields of the frames as they came back last, ORed (the slaves' ECAT events).
+    std::uint16_t irq() const;
+
 private:
     static std::size_t state_slot(eni::SlaveState state);
 
@@ -59,6 +75,10 @@ private:
     // active_[frame][state slot] = indices of the frame's datagrams sent in that state.
     std::vector<std::array<std::vector<std::uint16_t>, 3>> active_;
     std::vector<std::size_t> last_state_slot_;
+    std::vector<std::size_t> first_;  // flat index of each frame's first datagram
+    std::vector<std::optional<std::uint16_t>> expected_;
+    std::vector<std::uint16_t> last_wkc_;
+    std::vector<std::uint16_t> frame_irq_;  // per frame
 };
 
 }  // namespace ecpair::master

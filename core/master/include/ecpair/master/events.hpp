@@ -50,6 +50,16 @@ enum class EventKind : std::uint8_t {
     LinkGuardResumed,     // c = ms the cycle stood still; the links stay down until ecpaird asks
     LinkGuardLinksUp,     // a = why (0 ecpaird started, 1 the daemon may drive its links again), c = ms they were down
     LinkGuardGone,        // the guard process ended while ecpaird runs: a = its exit status
+    // Hot-Connect (issue 10): results are TopologyResult, group masks cover groups 1..32.
+    TopologyChangeDetected,      // a = slaves counted before, b = now (0xFFFF: not known), from the cycle
+    TopologyChangeDone,          // a = result, b = optional groups present, c = optional groups, d = WKC deviations
+    DetectAddGroups,             // a = result, b = optional groups, c = groups present, d = presence mask
+    ProbeAllGroups,              // as DetectAddGroups, after groups went away
+    BusMismatchIdentification,   // a = position, b = identification Ado, c = value read (0x10000: none), d = expected
+    BusMismatchPlace,            // a = position, b = previous station, c = previous port (0..3), d = previous position
+    HotConnectAcceptPending,     // a = groups waiting for an accept, b = mask of them
+    SlaveIdentificationUpdated,  // a = slave index, b = the station alias now (ETG.1020 code 0x0061)
+    PortLoopChanged,             // a = station, b = port (0..3), c = loop setting (0 auto .. 3 closed), d = why
 };
 
 // ---- what the supervisor's events carry (in a..d)
@@ -95,6 +105,24 @@ enum class NoActiveReason : std::uint8_t {
     PartnerDiffers,  // the only master heard runs another ENI / other parameters, and is silent now
     Isolated,        // both own links are down
 };
+
+// How a Hot-Connect topology change ended (TopologyChangeDone, DetectAddGroups, ProbeAllGroups: a).
+enum class TopologyResult : std::uint8_t {
+    Ok = 0,
+    GroupsRefused = 1,     // a group or slave did not match the ENI: left out, the rest goes on
+    MandatoryMissing = 2,  // a mandatory slave is not there (cyclic WKC errors follow)
+    BringUpFailed = 3,     // a group did not reach the master state
+    ScanFailed = 4,        // the bus could not be scanned
+    Timeout = 5,           // the bus did not settle within the detection timeout
+    Cancelled = 6,         // the master stopped or became INACTIVE meanwhile
+};
+std::string_view to_string(TopologyResult result);
+
+// Why a port's loop setting changed (EventKind::PortLoopChanged, d).
+inline constexpr std::uint32_t kPortByOperator = 0;
+inline constexpr std::uint32_t kPortBorderClose = 1;
+inline constexpr std::uint32_t kPortBlockNode = 2;
+inline constexpr std::uint32_t kPortOpenBlocked = 3;
 
 // What differs from a redundant partner (EventKind::PartnerMismatch, a).
 inline constexpr std::uint32_t kDiffersEni = 1u << 0;

@@ -32,6 +32,7 @@
 #include "ecpair/master/link_role.hpp"
 #include "ecpair/master/process_image.hpp"
 #include "ecpair/master/slave_state_image.hpp"
+#include "ecpair/master/topology_watch.hpp"
 
 namespace ecpair::master {
 
@@ -68,6 +69,7 @@ struct MasterStats {
     std::uint64_t late_frames = 0;        // copies that came back after their cycle was completed
     std::uint64_t cycles_incomplete = 0;  // some cyclic data of the cycle is missing
     std::uint64_t wkc_errors = 0;
+    std::uint64_t wkc_topology_deviations = 0;  // WKC deviations while the topology changed (Hot-Connect)
     std::uint64_t foreign_frames = 0;
     std::uint64_t send_errors = 0;
     std::uint64_t rx_dropped = 0;
@@ -124,6 +126,11 @@ public:
     ImageSnapshot snapshot() const;
     SlaveStateImage& slaves() { return slaves_; }
     const SlaveStateImage& slaves() const { return slaves_; }
+    // Hot-Connect: notices bus changes in the cycle; the expected WKCs of the
+    // cyclic datagrams (flat, CyclicExchange numbering) for the slaves on the
+    // bus now, taken over at the next cycle boundary.
+    TopologyWatch& topology_watch() { return topology_watch_; }
+    void set_expected_wkcs(std::vector<std::optional<std::uint16_t>> expected);
     const eni::EniConfig& eni() const { return *eni_; }
     bool link_up(LinkRole role) const { return link_up_[static_cast<std::size_t>(role)].load(); }
     const MasterOptions& options() const { return options_; }
@@ -178,6 +185,7 @@ private:
     CycleHook hook_;
     CycleExtension* extension_ = nullptr;
     SlaveStateImage slaves_;
+    TopologyWatch topology_watch_;
 
     // Cycle-thread state.
     std::uint64_t cycle_ = 0;
@@ -193,6 +201,9 @@ private:
     // Shared with other threads.
     mutable std::mutex snapshot_mutex_;  // the cycle only try_locks it
     ImageSnapshot snapshot_;
+    std::mutex expected_mutex_;  // the cycle only try_locks it
+    std::vector<std::optional<std::uint16_t>> expected_wkcs_;
+    std::atomic<bool> expected_wkcs_pending_{false};
     std::atomic<eni::SlaveState> state_{eni::SlaveState::Init};
     std::atomic<eni::SlaveState> requested_state_{eni::SlaveState::Init};
     std::atomic<std::uint64_t> cycle_counter_{0};
@@ -207,7 +218,7 @@ private:
     std::atomic<std::uint64_t> cycles_without_return_{0};
     struct AtomicStats {
         std::atomic<std::uint64_t> cycles{0}, frames_sent{0}, frames_lost{0}, cycles_incomplete{0}, wkc_errors{0},
-            foreign_frames{0}, send_errors{0}, late_frames{0};
+            foreign_frames{0}, send_errors{0}, late_frames{0}, wkc_topology_deviations{0};
     } stats_;
 };
 

@@ -79,6 +79,11 @@ struct StateMachineHooks {
     std::function<eni::SlaveState()> cyclic_state;
     // Called on the worker thread when a sequence ends (reached, failed or stopped).
     std::function<void(const SequenceResult&)> on_done;
+    // Called on the worker thread when it starts a sequence (before any transition).
+    std::function<void()> on_start;
+    // Called on the worker thread after each startup scan, before anything is
+    // sent to the slaves (Hot-Connect corrects the expected WKCs from it).
+    std::function<void(const ScanOutcome&)> on_scan;
 };
 
 struct StateMachineOptions {
@@ -110,8 +115,13 @@ public:
     MasterState current() const;
     bool busy() const;
     std::optional<SequenceError> last_error() const;
-    // Per EniConfig::slaves entry, from the last startup scan (all true before the first).
+    // Per EniConfig::slaves entry, from the last startup scan (all true before
+    // the first) or from Hot-Connect since.
     std::vector<bool> presence() const;
+    std::vector<std::uint16_t> position_shift() const;
+    // Hot-Connect changed which slaves are on the bus and where: the next
+    // transitions take those (the next startup scan decides anew).
+    void update_presence(std::vector<bool> present, std::vector<std::uint16_t> position_shift);
     // Waits until no sequence runs (its on_done included) or `timeout` passes; true when idle.
     bool wait_idle(std::chrono::milliseconds timeout) const;
 
@@ -119,7 +129,10 @@ private:
     void worker(std::stop_token stop);
     std::optional<SequenceError> run_transition(eni::Transition t, std::stop_token stop);
     std::optional<SequenceError> startup_scan(std::stop_token stop);
-    std::optional<SequenceError> run_slave(const SlavePlan& plan, eni::Transition t, std::stop_token stop);
+    std::optional<SequenceError> run_slave(const SlavePlan& plan, eni::Transition t, std::stop_token stop,
+                                           bool may_recover = true);
+    std::optional<SequenceError> recover_identification_update(const SlavePlan& plan, eni::Transition t,
+                                                               std::stop_token stop);
     std::optional<SequenceError> apply_cyclic_state(MasterState state, eni::Transition t, std::stop_token stop);
     void acknowledge_error(std::size_t slave_index, eni::Transition t);
     CommandContext context_for(std::size_t slave_index) const;
@@ -137,7 +150,7 @@ private:
     InitCmdRunner init_cmds_;
     CoeInitCmdRunner coe_init_cmds_;
 
-    // Worker-thread state.
+    // Worker-thread state (position_shift_ also written by update_presence, under the mutex).
     std::vector<std::uint16_t> position_shift_;
     std::map<std::size_t, std::unique_ptr<SdoClient>> sdo_clients_;  // worker thread
     std::map<std::size_t, std::uint8_t> inherited_counters_;          // guarded by mutex_, taken by sdo_client()

@@ -23,9 +23,10 @@ namespace ecpair::sequencer {
 
 class SlaveMonitor {
 public:
+    // `report_presence`: raise SlavePresence on a change (off when Hot-Connect reports presence).
     SlaveMonitor(std::shared_ptr<const eni::EniConfig> eni, bus::BusAccess& bus, master::SlaveStateImage& image,
                  master::EventQueue* events, std::function<bool()> addresses_assigned,
-                 std::chrono::milliseconds period = std::chrono::milliseconds(100));
+                 std::chrono::milliseconds period = std::chrono::milliseconds(100), bool report_presence = true);
     ~SlaveMonitor();
     SlaveMonitor(const SlaveMonitor&) = delete;
     SlaveMonitor& operator=(const SlaveMonitor&) = delete;
@@ -44,6 +45,7 @@ private:
     master::EventQueue* events_;
     std::function<bool()> addresses_assigned_;
     std::chrono::milliseconds period_;
+    bool report_presence_;
     mutable std::mutex mutex_;
     std::condition_variable_any wake_;
     std::uint64_t rounds_ = 0;

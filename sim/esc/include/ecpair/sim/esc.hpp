@@ -35,13 +35,24 @@ struct EscDescription {
     std::uint32_t serial_no = 0;
     std::uint16_t alias = 0;        // SII word 4, loaded into 0x0012 at power-on
     std::uint16_t id_selector = 0;  // the explicit device ID (e.g. a rotary switch)
+    // ETG.1020 legacy: a rotary switch read at power-on and copied into 0x0012
+    // (racing the SII alias, hot-connect.md §10); 0: the slave has none.
+    std::uint16_t legacy_id_selector = 0;
+    // Input-word identification: the application shows `value` at ESC address
+    // `address` of its input process data (from SAFEOP on).
+    struct InputWord {
+        std::uint16_t address = 0;
+        std::uint16_t value = 0;
+    };
+    std::optional<InputWord> input_word_id;
     std::string physics = "YY";     // one letter per implemented port (Y = MII, K = EBUS)
     std::optional<eni::Mailbox> mailbox;
     eni::ProcessData process_data;
 
     // From an ENI slave: identity, physics, mailbox and process data. The ENI's
-    // <Identification Value> becomes the alias when its Ado is 0x0012 and the
-    // explicit device ID (id_selector) otherwise.
+    // <Identification Value> becomes the alias when its Ado is 0x0012, the
+    // explicit device ID (id_selector) when it is 0x0134, and an input word
+    // when the Ado lies in the process RAM (0x1000 and up).
     static EscDescription from_eni(const eni::Slave& slave);
 };
 
@@ -97,6 +108,11 @@ public:
     // (an ESC takes the alias over only at the first SII load).
     void set_eeprom_alias(std::uint16_t alias);
     void set_id_selector(std::uint16_t value);  // read at the next ID request
+    // ETG.1020 legacy rotary switch, read at the next power-on (0: none).
+    void set_legacy_id_selector(std::uint16_t value);
+    // The application refuses to enter `state` and every state above it
+    // (PREOP/SAFEOP/OP; nullopt: refuses nothing): the lock-out use case.
+    void refuse_states_from(std::optional<eni::SlaveState> state);
 
     // ---- PDI-side mailbox (the seam for protocol servers such as CoE)
     // Installs the application that answers mailbox requests. Without one the

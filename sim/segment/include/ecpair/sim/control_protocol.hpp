@@ -8,9 +8,14 @@
 //   power-off K | power-on K | break K | repair K
 //   insert-unknown K | remove-unknown K
 //   set-alias K VALUE | set-id K VALUE
+//   group-off N | group-on N | plug-group N K PORT | unplug-group N
+//   plug-unknown K PORT | plug-duplicate K J PORT
+//   refuse-state K STATE | set-selector K VALUE
 //   impair SIDE LOSS DUP DELAY
 //
-// K is a decimal number; VALUE is decimal or 0x-prefixed hexadecimal, 0..65535.
+// K, J and N are decimal numbers (slave positions, a Hot-Connect group);
+// VALUE is decimal or 0x-prefixed hexadecimal, 0..65535; PORT is A..D (or
+// 0..3); STATE is PREOP, SAFEOP, OP or none.
 // impair: the cable on SIDE (main or red) loses LOSS % and duplicates DUP %
 // of the frames crossing it (either way), and delays those entering the
 // segment by DELAY µs (0..100000): netem's job, for kernels without netem.
@@ -37,6 +42,14 @@ enum class ControlCommand : std::uint8_t {
     RemoveUnknown,
     SetAlias,
     SetId,
+    GroupOff,
+    GroupOn,
+    PlugGroup,
+    UnplugGroup,
+    PlugUnknown,
+    PlugDuplicate,
+    RefuseState,
+    SetSelector,
     Impair,
 };
 
@@ -45,7 +58,11 @@ std::string_view to_string(ControlCommand command);  // the request word, "power
 struct ControlRequest {
     ControlCommand command = ControlCommand::Status;
     std::size_t position = 0;  // K, for the commands that take one
-    std::uint16_t value = 0;   // VALUE, for set-alias / set-id
+    std::uint16_t value = 0;   // VALUE, for set-alias / set-id / set-selector
+    std::size_t group = 0;     // N
+    std::size_t at = 0;        // J (plug-duplicate), K (plug-group)
+    int port = 0;              // PORT, 0..3
+    std::uint8_t state = 0;    // STATE as an AL state (2, 4, 8), 0 for none
     // impair
     bool red_side = false;
     std::uint8_t loss_percent = 0;

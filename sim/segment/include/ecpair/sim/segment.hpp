@@ -40,6 +40,8 @@ struct SlaveSpec {
     std::uint16_t phys_addr = 0;
     std::optional<eni::PreviousPort> previous_port;
     int source_line = 0;
+    std::size_t group = 0;  // Hot-Connect group number (0: mandatory)
+    bool floating = false;  // a floating group's head: not plugged in at first
 };
 
 struct SideCounters {
@@ -110,10 +112,29 @@ public:
     Expected<void, FaultError> set_eeprom_alias(std::size_t position, std::uint16_t alias);
     Expected<void, FaultError> set_id_selector(std::size_t position, std::uint16_t value);
 
+    // ---- Hot-Connect (segment_hot_connect.cpp; groups 1..n as the ENI numbers them)
+    // Power of every slave of a group.
+    Expected<void, FaultError> set_group_power(std::size_t group, bool on);
+    // Plugs the group's head into port `port` (0..3) of slave `position`
+    // (unplugging it from where it was), or takes it out.
+    Expected<void, FaultError> plug_group(std::size_t group, std::size_t position, int port);
+    Expected<void, FaultError> unplug_group(std::size_t group);
+    // A slave in no ENI, or a copy of slave `source` (same identity and
+    // identification), plugged into a free port; it becomes the last slave.
+    // remove_unknown_slave() takes either out again.
+    Expected<void, FaultError> plug_unknown_slave(std::size_t position, int port);
+    Expected<void, FaultError> plug_duplicate(std::size_t source, std::size_t position, int port);
+    // The slave's application refuses `state` and above (nullopt: nothing).
+    Expected<void, FaultError> refuse_states_from(std::size_t position, std::optional<eni::SlaveState> state);
+    // The ETG.1020 legacy ID selector, read at the slave's next power-on.
+    Expected<void, FaultError> set_legacy_id_selector(std::size_t position, std::uint16_t value);
+    std::size_t group_count() const { return group_count_; }
+    std::size_t group_of(std::size_t position) const { return origins_[position - 1].group; }
+
     // ---- inspection (positions 1..slave_count())
     std::size_t slave_count() const { return escs_.size(); }
     const Esc& slave(std::size_t position) const { return escs_[position - 1]; }
-    bool is_unknown(std::size_t position) const { return unknown_[position - 1]; }
+    bool is_unknown(std::size_t position) const { return origins_[position - 1].added; }
     bool side_link(Side side) const { return side_link_[static_cast<std::size_t>(side)]; }
     // Whether the cable after slave k exists and is intact.
     bool link_after_intact(std::size_t k) const;
@@ -136,8 +157,18 @@ private:
     // re-plugged cable), then update_links().
     void replug(std::span<const std::size_t> cables);
 
+    // Where a slave came from: the ENI (with its group), or an operator's fault.
+    struct Origin {
+        bool added = false;      // insert-unknown, plug-unknown or plug-duplicate
+        std::size_t group = 0;   // Hot-Connect group (0: mandatory, or added)
+        bool group_head = false;
+    };
+    Expected<std::size_t, FaultError> group_head(std::size_t group) const;
+    Expected<void, FaultError> plug_added(Esc esc, std::size_t position, int port, std::string_view what);
+
     std::vector<Esc> escs_;
-    std::vector<bool> unknown_;  // per slave: spliced in by insert_unknown_slave()
+    std::vector<Origin> origins_;  // per slave
+    std::size_t group_count_ = 0;
     Topology topology_;
     SegmentOptions options_;
     std::array<bool, kSideCount> side_link_{true, true};

@@ -10,10 +10,12 @@
 // MAIN) and its downstream end, as built from the ENI:
 //   - slave 0's port 0 hangs on the MAIN side;
 //   - slave i's port 0 hangs on the upstream port named by its PreviousPort,
-//     or on port 1 of slave i-1 when it has none (a line);
+//     or on port 1 of slave i-1 when it has none (a line); the head of a
+//     floating Hot-Connect group hangs nowhere at first (plug() puts it in);
 //   - the RED side takes the last slave's port 1 when that is free (the ring's
 //     return), else the first free port found walking back from the last
-//     slave, each slave's ports in processing order (3, 1, 2);
+//     slave, each slave's ports in processing order (3, 1, 2) -- slaves not
+//     connected to MAIN (a floating group) excepted;
 //   - with no slaves at all, MAIN and RED are one cable.
 
 #include <array>
@@ -87,6 +89,7 @@ struct TopologySlave {
     PortMask ports = port_bit(0) | port_bit(1);
     std::optional<eni::PreviousPort> previous_port;  // the selected one, if any
     int source_line = 0;                             // where the slave is in the ENI, for errors
+    bool floating = false;                           // a floating group's head: not plugged in at first
 };
 
 struct TopologyError {
@@ -138,6 +141,14 @@ public:
     // port 1: its upstream neighbour is plugged straight into whatever its
     // port 1 reached (the joined cable is intact only if both were).
     Expected<void, TopologyError> remove_slave(std::size_t index);
+
+    // A new cable from `upstream` (a free slave port) to port 0 of `slave`
+    // (free too), and taking it out again. unplug() returns where it was.
+    Expected<void, TopologyError> plug(const Endpoint& upstream, std::size_t slave);
+    Expected<Endpoint, TopologyError> unplug(std::size_t slave);
+    // A new slave with `ports` (at least port 0) at index slave_count(), its
+    // port 0 plugged into `upstream`.
+    Expected<void, TopologyError> attach_slave(PortMask ports, const Endpoint& upstream);
 
 private:
     Topology(std::vector<PortMask> slave_ports, std::vector<Cable> cables);

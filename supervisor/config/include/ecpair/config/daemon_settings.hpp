@@ -37,6 +37,14 @@ struct LinkGuardSettings {
     std::chrono::milliseconds hang_timeout{50};
 };
 
+enum class HotConnectMode : std::uint8_t { Automatic, ManualPreop, ManualNoReset };
+
+struct HotConnectSettings {
+    HotConnectMode mode = HotConnectMode::Automatic;
+    bool border_close = false;
+    std::chrono::milliseconds detection_timeout{15000};
+};
+
 struct DaemonSettings {
     std::string name = "ecpaird";
     std::string main_interface;
@@ -60,6 +68,7 @@ struct DaemonSettings {
     RedundancySettings redundancy;
     LinkGuardSettings link_guard;
     std::optional<tap_bridge::TapBridgeOptions> tap;  // the TAP bridge, when configured
+    HotConnectSettings hot_connect;
 };
 
 struct ConfigError {

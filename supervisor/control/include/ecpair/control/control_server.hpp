@@ -41,6 +41,8 @@ public:
     virtual ImageHistoryReply image_history(const ImageHistoryRequest& request) = 0;
     virtual std::optional<std::string> switchover(const SwitchoverRequest& request) = 0;
     virtual std::optional<std::string> force_standby(const ForceStandbyRequest& request) = 0;
+    // Every Hot-Connect request (Request kinds 25-39): the whole response.
+    virtual Response hot_connect(const Request& request) = 0;
 };
 
 struct SocketSettings {
