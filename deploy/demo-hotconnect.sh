@@ -101,11 +101,10 @@ groups m1
 counters m1
 note "cyclic WKC errors so far: $(grep -c 'cyclic-wkc-error' "$work/events-m1.log" || true)"
 
-step "4. m2 (INACTIVE) answers like m1; then a switchover by API"
+step "4. m2 (INACTIVE) answers like m1; then ecpairctl switchover (no cycle lost)"
 groups m2
 ctl accept m2 2>&1 | sed 's/^/   /' || true
-ctl red-state m1 INACTIVE | sed 's/^/   /'
-ctl red-state m2 ACTIVE | sed 's/^/   /'
+ctl switchover m1 | sed 's/^/   /'
 wait_for 10 bash -c "'$ecpairctl' status --socket '$work/m2.sock' | grep -q 'redundancy: ACTIVE'" || true
 sleep 1
 groups m2
