@@ -76,6 +76,11 @@ std::uint8_t data_type_code(std::string_view name) {
 
 std::string clipped(const std::string& text) { return text.substr(0, 255); }
 
+// SII word 0: PDI control (0x0140) and ESC configuration (0x0141).
+std::uint16_t pdi_control_word(const EscLayout& layout) {
+    return layout.device_emulation ? sii::kDigitalIoDeviceEmulation : sii::kPdiControlWord;
+}
+
 void write_strings(ImageWriter& w, const std::array<std::string, 3>& strings) {
     w.begin_category(cat::kCategoryStrings);
     w.u8(static_cast<std::uint8_t>(strings.size()));
@@ -99,8 +104,9 @@ void write_general(ImageWriter& w, const EscLayout& layout) {
     w.u8(0);                                                          // SoE channels
     w.u8(0);                                                          // DS402 channels
     w.u8(0);                                                          // SysmanClass
-    // Flags: b2 mailbox data link layer, b3 explicit device ID in AL status code.
-    w.u8(static_cast<std::uint8_t>((layout.mailbox_data_link_layer ? 0x04 : 0x00) | 0x08));
+    // Flags: b2 mailbox data link layer, b3 explicit device ID in AL status
+    // code (which needs a stack: not in device emulation).
+    w.u8(static_cast<std::uint8_t>((layout.mailbox_data_link_layer ? 0x04 : 0x00) | (layout.device_emulation ? 0x00 : 0x08)));
     w.u16(0);  // EBUS current
     std::uint16_t ports = 0;
     for (int p = 0; p < 4; ++p) {
@@ -209,7 +215,7 @@ void sii_set_alias(Bytes image, std::uint16_t alias) {
 std::vector<std::uint8_t> build_sii_image(const EscDescription& description, const EscLayout& layout) {
     ImageWriter w;
     w.zeros(kHeaderBytes);
-    w.word_at(0x0000, sii::kPdiControlWord);
+    w.word_at(0x0000, pdi_control_word(layout));
     w.word_at(0x0002, sii::kSyncPulseLength);
     w.dword_at(cat::kVendorId, description.vendor_id);
     w.dword_at(cat::kProductCode, description.product_code);

@@ -12,6 +12,7 @@
 #include <array>
 #include <cerrno>
 #include <cstring>
+#include <optional>
 #include <system_error>
 
 #include "ecpair/common/log.hpp"
@@ -122,10 +123,20 @@ bool SegmentRunner::serve_side(sim::Side side) {
     return true;
 }
 
-int SegmentRunner::flush_timeout_ms() const {
-    if (!setup_.pcap || !setup_.pcap->has_unflushed()) return -1;
-    const auto left =
-        std::chrono::duration_cast<std::chrono::milliseconds>(next_flush_ - std::chrono::steady_clock::now());
+// Until the pcap file is due for a flush or an ESC's SM watchdog expires
+// (-1: nothing is due, wait for a descriptor).
+int SegmentRunner::poll_timeout_ms() const {
+    const auto now = std::chrono::steady_clock::now();
+    std::optional<std::chrono::steady_clock::time_point> due;
+    if (setup_.pcap && setup_.pcap->has_unflushed()) due = next_flush_;
+    if (const auto deadline = setup_.segment.next_deadline()) {
+        const auto at = std::chrono::steady_clock::time_point(
+            std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::nanoseconds(*deadline)));
+        if (!due || at < *due) due = at;
+    }
+    if (!due) return -1;
+    // Rounded up: waking before the deadline would only go round again.
+    const auto left = std::chrono::ceil<std::chrono::milliseconds>(*due - now);
     return left.count() < 0 ? 0 : static_cast<int>(left.count());
 }
 
@@ -155,7 +166,7 @@ int SegmentRunner::serve() {
         const std::size_t control_slot = fds.size();
         const std::size_t control_count = control_->append_poll_fds(fds);
 
-        const int ready = ::poll(fds.data(), fds.size(), flush_timeout_ms());
+        const int ready = ::poll(fds.data(), fds.size(), poll_timeout_ms());
         if (ready < 0) {
             if (errno == EINTR) continue;
             runner_log().error("poll: {}", std::error_code(errno, std::generic_category()).message());
@@ -174,6 +185,7 @@ int SegmentRunner::serve() {
         if (fds[kMain].revents != 0 && !serve_side(sim::Side::Main)) return kExitFailure;
         if (fds[kRed].revents != 0 && !serve_side(sim::Side::Red)) return kExitFailure;
         control_->on_poll(std::span(fds).subspan(control_slot, control_count));
+        setup_.segment.advance_time(nanoseconds(std::chrono::steady_clock::now()));
 
         if (setup_.pcap && setup_.pcap->has_unflushed() && std::chrono::steady_clock::now() >= next_flush_) {
             setup_.pcap->flush();
