@@ -91,7 +91,7 @@ TEST_CASE("every category parses back the way SOEM reads it") {
     const std::uint32_t general = sii.find(30);
     REQUIRE(general != 0);
     CHECK(sii.byte(general + 5) == 1);     // name string index
-    CHECK(sii.byte(general + 7) == 0x01);  // CoE details: SDO
+    CHECK(sii.byte(general + 7) == 0x2F);  // CoE details: SDO, SDO Information, PDO assign/config, CompleteAccess
     CHECK(sii.byte(general + 8) == 0x01);  // FoE
     CHECK(sii.byte(general + 9) == 0x00);  // no EoE
     CHECK((sii.byte(general + 0x0D) & 0x02) == 0);  // LRW allowed
