@@ -9,6 +9,7 @@
 #include "ecpair/config/daemon_settings.hpp"
 #include "ecpair/control/control_server.hpp"
 #include "ecpair/master/cycle_thread.hpp"
+#include "ecpair/master/event_describer.hpp"
 #include "ecpair/master/master.hpp"
 #include "ecpair/redundancy/redundancy_controller.hpp"
 #include "ecpair/sequencer/master_state_machine.hpp"
@@ -42,6 +43,6 @@ private:
 };
 
 // The event as the operator API carries it.
-control::EventMessage to_message(const master::Event& event);
+control::EventMessage to_message(const master::Event& event, const master::EventDescriber& describer);
 
 }  // namespace ecpair::daemon
