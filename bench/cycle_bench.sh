@@ -26,7 +26,8 @@ trap cleanup EXIT
 
 ticks() { awk '{print $14 + $15}' "/proc/$1/stat"; }  # utime + stime of a process
 
-"$bin/sim/generator/ecsim-make-eni" --slaves 33 --input-bytes 76 --output-bytes 76 --cycle-us "$cycle_us" -o "$work/bench.xml"
+slaves=${ECPAIR_BENCH_SLAVES:-33}
+"$bin/sim/generator/ecsim-make-eni" --slaves "$slaves" --input-bytes 76 --output-bytes 76 --cycle-us "$cycle_us" -o "$work/bench.xml"
 topology_up "$prefix" single
 ip netns exec "$prefix-sim" "$bin/sim/segment/ecsim" --eni "$work/bench.xml" --main-if sim-main --red-if sim-red \
   --control "$work/ecsim.sock" --realtime-priority 70 --log-level warn >"$work/ecsim.log" 2>&1 &
@@ -45,7 +46,7 @@ CONF
 ip netns exec "$prefix-m1" "$bin/supervisor/ecpaird/ecpaird" --config "$work/bench.textproto" >"$work/ecpaird.log" 2>&1 &
 daemon_pid=$!
 status() { "$bin/supervisor/ecpairctl/ecpairctl" status --socket "$work/bench.sock"; }
-for _ in $(seq 300); do status 2>/dev/null | grep -q 'master OP' && break; sleep 0.1; done
+for _ in $(seq ${ECPAIR_BENCH_OP_WAIT:-300}); do status 2>/dev/null | grep -q 'master OP' && break; sleep 0.1; done
 status | grep -q 'master OP' || { echo "did not reach OP"; cat "$work/ecpaird.log"; exit 1; }
 
 start_status=$(status)
@@ -60,7 +61,7 @@ delta() { echo $(( $(number "$end_status" "$1") - $(number "$start_status" "$1")
 hz=$(getconf CLK_TCK)
 cpu() { awk -v a="$1" -v b="$2" -v hz="$hz" -v s="$start" -v e="$end" 'BEGIN { printf "%.1f%%", (b - a) / hz / (e - s) * 100 }'; }
 
-echo "cycle ${cycle_us} µs, ${seconds} s in OP, 33 slaves, $(( 33 * 152 )) bytes of process data, cable redundancy"
+echo "cycle ${cycle_us} µs, ${seconds} s in OP, $slaves slaves, $(( slaves * 152 )) bytes of process data, cable redundancy"
 echo "  cycles:           $(delta cycles)"
 echo "  late cycles:      $(( $(late "$end_status") - $(late "$start_status") ))   (woke more than a quarter period after the deadline)"
 grep -oE 'cycles [0-9]+ \([^)]*\)' <<<"$end_status" | sed 's/^/  whole run:        /'

@@ -130,7 +130,7 @@ CmfAssembler::Outcome CmfAssembler::place(const CmfSegmentHeader& segment, Const
     std::copy(payload.begin(), payload.end(), assembling_.sections.begin() + static_cast<std::ptrdiff_t>(at));
     if (segment.kind == CmfKind::Header) assembling_.header = *last_header_;
     WorkingCounters& lowest = assembling_.wkc;
-    if (segment.kind == CmfKind::MasterPdIn) {
+    if (segment.kind == CmfKind::MasterPdIn || segment.kind == CmfKind::StandbyStatus) {
         lowest.lowest_write = std::min(lowest.lowest_write.value_or(wkc), wkc);
     } else {
         lowest.lowest_read = std::min(lowest.lowest_read, wkc);
@@ -164,10 +164,12 @@ void CmfAssembler::finish_cycle() {
     content_ = CmfContent{h.cycle,
                           h.master_state,
                           h.flags,
+                          h.sender,
                           complete_.slaves,
                           section(complete_, CmfKind::ShadowInputs),
                           section(complete_, CmfKind::MasterPdOut),
-                          section(complete_, CmfKind::MasterPdIn)};
+                          section(complete_, CmfKind::MasterPdIn),
+                          section(complete_, CmfKind::StandbyStatus)};
 }
 
 ConstBytes CmfAssembler::section(const CycleBuffers& buffers, CmfKind kind) const {

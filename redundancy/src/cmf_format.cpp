@@ -1,4 +1,4 @@
-// The CMF wire format, version 1: segment header, HEADER section, slave
+// The CMF wire format, version 2: segment header, HEADER section, slave
 // entries, and the plan that cuts a layout into datagrams and frames.
 //
 // The plan is a greedy fill: sections in kind order, each poured into the
@@ -116,7 +116,7 @@ Expected<CmfSegmentHeader, CmfError> CmfSegmentHeader::decode(ConstBytes data, s
         return unexpected(CmfError{CmfErrc::UnsupportedVersion, data_offset + 2, h.version, kCmfFormatVersion});
     }
     const std::uint8_t kind = data[3];
-    if (kind < static_cast<std::uint8_t>(CmfKind::Header) || kind > static_cast<std::uint8_t>(CmfKind::MasterPdIn)) {
+    if (kind < static_cast<std::uint8_t>(CmfKind::Header) || kind > static_cast<std::uint8_t>(CmfKind::StandbyStatus)) {
         return unexpected(CmfError{CmfErrc::UnknownKind, data_offset + 3, kind, 0});
     }
     h.kind = static_cast<CmfKind>(kind);
@@ -147,6 +147,7 @@ std::uint32_t CmfLayout::section_size(CmfKind kind) const {
         case CmfKind::ShadowInputs: return shadow_inputs_size;
         case CmfKind::MasterPdOut: return parameters.master_pd_out_size;
         case CmfKind::MasterPdIn: return parameters.master_pd_in_size;
+        case CmfKind::StandbyStatus: return static_cast<std::uint32_t>(CmfStandbyStatus::kSize);
     }
     return 0;
 }
@@ -189,11 +190,12 @@ CmfPlan::CmfPlan(CmfLayout layout, std::vector<CmfPart> parts) : layout_(layout)
 //  0 u8  format version     12 u16 slave count          28 u32 master PD in size
 //  1 u8  master state       14 u16 part count           32 28B pair parameters
 //  2 u16 flags              16 u32 slave state size     60 u64 fingerprint
-//  4 u64 cycle counter      20 u32 shadow inputs size
-//                           24 u32 master PD out size
+//  4 u64 cycle counter      20 u32 shadow inputs size   68 u32 epoch
+//                           24 u32 master PD out size   72 u64 hand-off cycle
+//  80 u16 slaves reached    82 6B  sender's MAIN MAC    88 u32 send offset (ns)
 
 CmfHeader CmfHeader::describe(const CmfPlan& plan, std::uint64_t cycle, eni::SlaveState master_state,
-                              CmfFlags flags) {
+                              CmfFlags flags, const CmfSender& sender) {
     const CmfLayout& layout = plan.layout();
     CmfHeader h;
     h.master_state = master_state;
@@ -207,6 +209,7 @@ CmfHeader CmfHeader::describe(const CmfPlan& plan, std::uint64_t cycle, eni::Sla
     h.master_pd_in_size = layout.parameters.master_pd_in_size;
     h.parameters = layout.parameters;
     h.fingerprint = layout.parameters.fingerprint();
+    h.sender = sender;
     return h;
 }
 
@@ -225,6 +228,11 @@ void CmfHeader::encode(Bytes out) const {
     store_le<std::uint32_t>(out, 28, master_pd_in_size);
     parameters.encode(out.subspan(32, PairParameters::kEncodedSize));
     store_le<std::uint64_t>(out, 60, fingerprint);
+    store_le<std::uint32_t>(out, 68, sender.epoch);
+    store_le<std::uint64_t>(out, 72, sender.handoff_cycle);
+    store_le<std::uint16_t>(out, 80, sender.slaves_reached);
+    std::copy(sender.member.bytes.begin(), sender.member.bytes.end(), out.begin() + 82);
+    store_le<std::uint32_t>(out, 88, sender.send_offset_ns);
 }
 
 Expected<CmfHeader, CmfError> CmfHeader::decode(ConstBytes in, std::size_t offset) {
@@ -249,6 +257,11 @@ Expected<CmfHeader, CmfError> CmfHeader::decode(ConstBytes in, std::size_t offse
     const ConstBytes parameters = in.subspan(32, PairParameters::kEncodedSize);
     h.parameters = PairParameters::decode(parameters);
     h.fingerprint = load_le<std::uint64_t>(in, 60);
+    h.sender.epoch = load_le<std::uint32_t>(in, 68);
+    h.sender.handoff_cycle = load_le<std::uint64_t>(in, 72);
+    h.sender.slaves_reached = load_le<std::uint16_t>(in, 80);
+    std::copy_n(in.begin() + 82, h.sender.member.bytes.size(), h.sender.member.bytes.begin());
+    h.sender.send_offset_ns = load_le<std::uint32_t>(in, 88);
 
     // Parameters must agree bit for bit; bits we cannot decode cannot agree.
     std::array<std::uint8_t, PairParameters::kEncodedSize> known{};
@@ -280,6 +293,55 @@ Expected<CmfHeader, CmfError> CmfHeader::decode(ConstBytes in, std::size_t offse
         return unexpected(CmfError{CmfErrc::InconsistentHeader, offset + 14, h.part_count, parts});
     }
     return h;
+}
+
+// ---- STANDBY_STATUS
+//
+//  0 u8  flags: b0 hot, b1 forced, b2 partner differs, b3 switchover requested,
+//               b4 hand-off acknowledged, b5 MAIN link up, b6 RED link up
+//  1 u8  reserved            2 6B  its MAIN MAC          8 u32 hand-off cycle (low 32 bits)
+//                                                        12 u32 epoch
+
+namespace {
+
+constexpr std::uint8_t kStandbyHot = 0x01;
+constexpr std::uint8_t kStandbyForced = 0x02;
+constexpr std::uint8_t kStandbyPartnerDiffers = 0x04;
+constexpr std::uint8_t kStandbySwitchoverRequested = 0x08;
+constexpr std::uint8_t kStandbyHandoffAcknowledged = 0x10;
+constexpr std::uint8_t kStandbyMainUp = 0x20;
+constexpr std::uint8_t kStandbyRedUp = 0x40;
+
+std::uint8_t bit_if(bool on, std::uint8_t bit) { return on ? bit : std::uint8_t{0}; }
+
+}  // namespace
+
+void CmfStandbyStatus::encode(Bytes out) const {
+    out[0] = static_cast<std::uint8_t>(bit_if(hot, kStandbyHot) | bit_if(forced, kStandbyForced) |
+                                       bit_if(partner_differs, kStandbyPartnerDiffers) |
+                                       bit_if(switchover_requested, kStandbySwitchoverRequested) |
+                                       bit_if(handoff_acknowledged, kStandbyHandoffAcknowledged) |
+                                       bit_if(main_link_up, kStandbyMainUp) | bit_if(red_link_up, kStandbyRedUp));
+    out[1] = 0;
+    std::copy(member.bytes.begin(), member.bytes.end(), out.begin() + 2);
+    store_le<std::uint32_t>(out, 8, handoff_cycle_low);
+    store_le<std::uint32_t>(out, 12, epoch);
+}
+
+CmfStandbyStatus CmfStandbyStatus::decode(ConstBytes in) {
+    CmfStandbyStatus s;
+    const std::uint8_t flags = in[0];
+    s.hot = (flags & kStandbyHot) != 0;
+    s.forced = (flags & kStandbyForced) != 0;
+    s.partner_differs = (flags & kStandbyPartnerDiffers) != 0;
+    s.switchover_requested = (flags & kStandbySwitchoverRequested) != 0;
+    s.handoff_acknowledged = (flags & kStandbyHandoffAcknowledged) != 0;
+    s.main_link_up = (flags & kStandbyMainUp) != 0;
+    s.red_link_up = (flags & kStandbyRedUp) != 0;
+    std::copy_n(in.begin() + 2, s.member.bytes.size(), s.member.bytes.begin());
+    s.handoff_cycle_low = load_le<std::uint32_t>(in, 8);
+    s.epoch = load_le<std::uint32_t>(in, 12);
+    return s;
 }
 
 // ---- slave entries

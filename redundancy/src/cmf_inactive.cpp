@@ -11,7 +11,7 @@
 
 namespace ecpair::redundancy {
 
-bool process_as_inactive(wire::FrameView& frame, ConstBytes master_pd_in) {
+bool process_as_inactive(wire::FrameView& frame, ConstBytes master_pd_in, ConstBytes standby_status) {
     bool carried_cmf = false;
     for (auto datagram : frame) {
         if (!is_cmf_datagram(datagram)) continue;
@@ -19,10 +19,11 @@ bool process_as_inactive(wire::FrameView& frame, ConstBytes master_pd_in) {
         const auto segment = CmfSegmentHeader::decode(data, 0);
         if (!segment) continue;
         carried_cmf = true;
-        if (segment->kind == CmfKind::MasterPdIn) {
+        if (segment->kind == CmfKind::MasterPdIn || segment->kind == CmfKind::StandbyStatus) {
+            const ConstBytes section = segment->kind == CmfKind::MasterPdIn ? master_pd_in : standby_status;
             const Bytes payload = data.subspan(CmfSegmentHeader::kSize);
-            if (segment->offset < master_pd_in.size()) {
-                const auto source = master_pd_in.subspan(segment->offset);
+            if (segment->offset < section.size()) {
+                const auto source = section.subspan(segment->offset);
                 std::copy_n(source.begin(), std::min(source.size(), payload.size()), payload.begin());
             }
             datagram.set_wkc(static_cast<std::uint16_t>(datagram.wkc() + kCmfWriteWkcIncrement));

@@ -55,7 +55,7 @@ Expected<void, CmfWriteError> CmfWriter::check(const CmfContent& content, std::s
 }
 
 void CmfWriter::encode_sections(const CmfContent& content) {
-    CmfHeader::describe(plan_, content.cycle, content.master_state, content.flags).encode(header_bytes_);
+    CmfHeader::describe(plan_, content.cycle, content.master_state, content.flags, content.sender).encode(header_bytes_);
     for (std::size_t i = 0; i < content.slaves.size(); ++i) {
         encode_slave_entry(content.slaves[i], Bytes(slave_bytes_).subspan(i * kCmfSlaveEntrySize));
     }
@@ -67,7 +67,8 @@ ConstBytes CmfWriter::section(const CmfContent& content, CmfKind kind) const {
         case CmfKind::SlaveStateImage: return slave_bytes_;
         case CmfKind::ShadowInputs: return content.shadow_inputs;
         case CmfKind::MasterPdOut: return content.master_pd_out;
-        case CmfKind::MasterPdIn: return {};  // zeros, for the INACTIVE to fill
+        case CmfKind::MasterPdIn:
+        case CmfKind::StandbyStatus: return {};  // zeros, for the INACTIVE to fill
     }
     return {};
 }
@@ -89,7 +90,6 @@ Expected<std::size_t, CmfWriteError> CmfWriter::write(const CmfContent& content,
         wire::FrameBuilder builder(buffer, ethernet);
         for (; next < parts.size() && parts[next].frame == frame; ++next) {
             const CmfPart& part = parts[next];
-            datagram.index = static_cast<std::uint8_t>(next);
             // check() made sure the frame fits: append cannot fail here.
             const auto view = builder.append(datagram, CmfSegmentHeader::kSize + part.length);
             const Bytes data = view->data();

@@ -68,6 +68,7 @@ void Mirror::publish(master::LinkRole arrived_on) {
     const auto bit = static_cast<std::uint8_t>(1u << index(arrived_on));
     std::lock_guard lock(mutex_);
     last_completed_ = std::chrono::steady_clock::now();
+    completed_.fetch_add(1, std::memory_order_relaxed);
     if (mismatch_) {
         logger("mirror")->info("partner agrees again: mirroring");
         mismatch_.reset();

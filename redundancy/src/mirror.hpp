@@ -65,6 +65,8 @@ public:
     std::optional<std::string> mismatch() const;
     // When a CMF last completed (steady clock), or nullopt when none ever did.
     std::optional<std::chrono::steady_clock::time_point> last_completed() const;
+    // CMF copies completed so far (either link), counting up.
+    std::uint64_t completed() const { return completed_.load(); }
     std::uint64_t errors() const { return errors_.load(); }
 
 private:
@@ -93,6 +95,7 @@ private:
     std::optional<std::chrono::steady_clock::time_point> last_completed_;
     std::optional<std::string> mismatch_;
     std::atomic<std::uint64_t> errors_{0};
+    std::atomic<std::uint64_t> completed_{0};
 };
 
 }  // namespace ecpair::redundancy

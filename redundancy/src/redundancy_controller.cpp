@@ -1,17 +1,21 @@
 // How the roles use the master's cycle (see the header for the why):
 //
-//   begin_cycle   role change requested? -> change_role() at this boundary
-//                 INACTIVE: bring the newest mirrored cycle into the image,
-//                           the master state and the slave state image
-//                 ACTIVE:   notice a partner that stopped answering
+//   begin_cycle   INACTIVE: bring the newest mirrored cycle into the image,
+//                           the master state and the slave state image, and
+//                           count cycles with the partner
+//                 then: ask the decider (or look at request()) and change
+//                 role at this boundary if told to
 //   send_frames   ACTIVE: the CMF of this cycle (after the slave frames)
 //   complete      ACTIVE: the partner's answer in the returned CMF
+//   foreign_frame ACTIVE: another master's frame (its CMF header is noted)
 //   on_frame      receive threads: ACTIVE -> the master's rings,
-//                 INACTIVE -> store-and-forward (which also feeds the mirror)
+//                 INACTIVE -> store-and-forward, which fills the standby
+//                 status into each CMF on its first pass and feeds the mirror
 
 #include "ecpair/redundancy/redundancy_controller.hpp"
 
 #include <algorithm>
+#include <limits>
 
 #include <fmt/format.h>
 
@@ -27,6 +31,22 @@ namespace {
 std::shared_ptr<spdlog::logger> log() { return logger("redundancy"); }
 
 std::uint32_t as_number(RedState s) { return static_cast<std::uint32_t>(s); }
+
+std::size_t index(master::LinkRole role) { return static_cast<std::size_t>(role); }
+
+// The HEADER section of the CMF `frame` carries, if it carries it.
+std::optional<CmfHeader> find_header(const wire::ConstFrameView& frame) {
+    for (const auto d : frame) {
+        if (!is_cmf_datagram(d)) continue;
+        const auto data = d.data();
+        const auto segment = CmfSegmentHeader::decode(data, d.frame_offset() + wire::kDatagramHeaderSize);
+        if (!segment || segment->kind != CmfKind::Header || segment->offset != 0) continue;
+        auto header = CmfHeader::decode(data.subspan(CmfSegmentHeader::kSize),
+                                        d.frame_offset() + wire::kDatagramHeaderSize + CmfSegmentHeader::kSize);
+        if (header) return *header;
+    }
+    return std::nullopt;
+}
 
 }  // namespace
 
@@ -50,6 +70,7 @@ RedundancyController::RedundancyController(master::Master& master, const Redunda
     : master_(master),
       options_(options),
       events_(events),
+      member_(master.link(master::LinkRole::Main).mac()),
       writer_(plan),
       mirror_(std::make_unique<Mirror>(plan, master.plan(), master.image().inputs().size(),
                                        master.image().outputs().size(), events, history_)),
@@ -62,11 +83,18 @@ RedundancyController::RedundancyController(master::Master& master, const Redunda
     mirrored_->master_pd_out.assign(p.master_pd_out_size, 0);
     slaves_.resize(master.eni().slaves.size());
 
-    // The INACTIVE answers in the CMF as it forwards it, once per frame.
-    forwarding_.set_hook([this](master::LinkRole, wire::FrameView& frame, bool first_pass) {
+    // The INACTIVE answers in the CMF as it forwards it, once per frame: it
+    // notes the header (the partner's cycle, a hand-off it announces), then
+    // fills in its master PD and its standby status.
+    forwarding_.set_hook([this](master::LinkRole arrived_on, wire::FrameView& frame, bool first_pass) {
         if (!first_pass) return;
+        if (const auto view = wire::ConstFrameView::parse(ConstBytes(frame.bytes()))) {
+            note_header(*view, arrival_[index(arrived_on)]);
+        }
+        std::array<std::uint8_t, CmfStandbyStatus::kSize> status{};
+        standby_status().encode(status);
         std::lock_guard lock(pd_in_mutex_);
-        process_as_inactive(frame, pd_in_to_send_);
+        process_as_inactive(frame, pd_in_to_send_, status);
     });
     forwarding_.set_stored_callback([this](master::LinkRole arrived_on, ConstBytes frame, bool first_pass) {
         if (first_pass) mirror_->on_first_pass(arrived_on, frame);
@@ -79,8 +107,8 @@ RedundancyController::RedundancyController(master::Master& master, const Redunda
     if (initial == RedState::Inactive) master_.acyclic().refuse(bus::BusErrc::MasterRedStateInactive);
     master_.set_extension(this);
     status_.state = initial;
-    log()->info("redundant pair member, starting {} (fingerprint {:016x}, CMF in {} frame(s) of {} datagram(s))",
-                to_string(initial), p.fingerprint(), plan.frame_count(), plan.parts().size());
+    log()->info("redundant pair member {}, starting {} (fingerprint {:016x}, CMF in {} frame(s) of {} datagram(s))",
+                member_.to_string(), to_string(initial), p.fingerprint(), plan.frame_count(), plan.parts().size());
 }
 
 RedundancyController::~RedundancyController() = default;
@@ -100,6 +128,7 @@ void RedundancyController::on_frame(master::LinkRole arrived_on, ConstBytes fram
     if (state_.load(std::memory_order_acquire) == RedState::Active) {
         master_.on_frame(arrived_on, frame, received_at);
     } else {
+        arrival_[index(arrived_on)] = received_at;  // for the hook, on this same thread
         forwarding_.on_frame(arrived_on, frame);
     }
 }
@@ -117,6 +146,59 @@ bool RedundancyController::mirror_fresh() const {
     const auto last = mirror_->last_completed();
     return last && !mirror_->mismatch() && std::chrono::steady_clock::now() - *last <= options_.mirror_fresh &&
            mirrored_->cycle != 0;
+}
+
+std::optional<CmfHeader> RedundancyController::note_header(const wire::ConstFrameView& frame, SteadyTime at) {
+    auto header = find_header(frame);
+    if (!header || header->sender.member == member_) return std::nullopt;  // none, or one of our own coming back
+    const auto& ours = writer_.plan().layout().parameters;
+    const bool same = header->fingerprint == ours.fingerprint();
+    {
+        std::lock_guard lock(heard_mutex_);
+        // The partner's cycle started about send_offset before its CMF left;
+        // the earliest copy of a cycle (the direct one) tells it best.
+        const auto start = at - std::chrono::nanoseconds(header->sender.send_offset_ns);
+        if (heard_ && heard_->cycle == header->cycle && partner_cycle_start_) {
+            partner_cycle_start_ = std::min(*partner_cycle_start_, start);
+        } else {
+            partner_cycle_start_ = start;
+        }
+        heard_ = HeardActive{header->cycle, header->master_state, header->flags, header->sender, same, at};
+        ++headers_heard_;
+    }
+    // The acknowledgement follows the newest announcement: withdrawn, it is withdrawn too.
+    if (same && header->flags.handoff_request && ready_for_handoff_.load()) {
+        acknowledged_handoff_.store(header->sender.handoff_cycle);
+    } else if (same && !header->flags.handoff_request) {
+        acknowledged_handoff_.store(kNoHandoff);
+    }
+    return header;
+}
+
+CmfStandbyStatus RedundancyController::standby_status() const {
+    CmfStandbyStatus s;
+    s.hot = hot_standby_.load();
+    s.forced = forced_standby_.load();
+    s.partner_differs = partner_differs_.load();
+    s.switchover_requested = switchover_requested_.load();
+    const auto acknowledged = acknowledged_handoff_.load();
+    s.handoff_acknowledged = acknowledged != kNoHandoff;
+    s.handoff_cycle_low = static_cast<std::uint32_t>(acknowledged);
+    s.main_link_up = forwarding_.link_state(master::LinkRole::Main);
+    s.red_link_up = forwarding_.link_state(master::LinkRole::Red);
+    s.member = member_;
+    s.epoch = standby_epoch_.load();
+    return s;
+}
+
+std::optional<link::Clock::time_point> RedundancyController::phase_reference() const {
+    if (state_.load() == RedState::Active) return std::nullopt;
+    const auto period = options_.parameters.cycle_time;
+    std::lock_guard lock(heard_mutex_);
+    if (!partner_cycle_start_ || !heard_ || !heard_->same_fingerprint) return std::nullopt;
+    // Too old to say where the partner's cycle is now (it may have stopped).
+    if (link::Clock::now() - *partner_cycle_start_ > 8 * period) return std::nullopt;
+    return *partner_cycle_start_ + period / kPhaseLagDivisor;
 }
 
 void RedundancyController::apply_mirror(master::ProcessImage& image) {
@@ -146,8 +228,9 @@ void RedundancyController::change_role(RedState to, master::ProcessImage& image)
         master_.request_state(change.master_state);
         master_.acyclic().refuse(std::nullopt);
         master_.set_sending(true);
-        partner_seen_ = false;
-        partner_last_seen_ = std::chrono::steady_clock::now();
+        acknowledged_handoff_.store(kNoHandoff);
+        partner_last_answer_.reset();
+        partner_status_.reset();
         state_.store(RedState::Active, std::memory_order_release);
         log()->warn("now ACTIVE: {} takeover in {} (mirrored cycle {})", change.hot ? "hot" : "cold",
                     eni::to_string(change.master_state), mirrored_->cycle);
@@ -158,6 +241,8 @@ void RedundancyController::change_role(RedState to, master::ProcessImage& image)
         master_.acyclic().refuse(bus::BusErrc::MasterRedStateInactive);
         mirror_->reset();
         mirrored_->cycle = 0;
+        followed_cycle_ = 0;
+        announced_handoff_.reset();
         state_.store(RedState::Inactive, std::memory_order_release);
         log()->warn("now INACTIVE: sending stops, store-and-forward and mirror from the partner");
         raise(master::EventKind::RedStateChanged, as_number(from), as_number(to));
@@ -165,30 +250,90 @@ void RedundancyController::change_role(RedState to, master::ProcessImage& image)
     if (on_role_change_) on_role_change_(change);
 }
 
-void RedundancyController::begin_cycle(master::ProcessImage& image, std::uint64_t cycle) {
+PairObservation RedundancyController::observe() const {
+    PairObservation seen;
+    seen.now = std::chrono::steady_clock::now();
+    seen.cycle = cycle_;
+    seen.role = state_.load();
+    seen.master_state = master_.state();
+    seen.main_link_up = master_.link_up(master::LinkRole::Main);
+    seen.red_link_up = master_.link_up(master::LinkRole::Red);
+    seen.member = member_;
+    {
+        std::lock_guard lock(heard_mutex_);
+        seen.headers_heard = headers_heard_;
+        seen.heard = heard_;
+    }
+    seen.cmfs_completed = mirror_->completed();
+    seen.last_cmf_completed = mirror_->last_completed();
+    seen.mirror_fresh = mirror_fresh();
+    seen.mirrored_cycle = mirrored_->cycle;
+    if (const auto acknowledged = acknowledged_handoff_.load(); acknowledged != kNoHandoff) {
+        seen.acknowledged_handoff = acknowledged;
+    }
+    seen.partner_answers = partner_answers_;
+    seen.partner_last_answer = partner_last_answer_;
+    seen.partner_status = partner_status_;
+    seen.foreign_frames = foreign_frames_;
+    seen.cycles_without_return = master_.cycles_without_return();
+    seen.slaves_reached = master_.slaves_reached();
+    return seen;
+}
+
+void RedundancyController::apply(const RoleDecision& decision, master::ProcessImage& image) {
+    epoch_ = decision.epoch;
+    standby_epoch_.store(decision.epoch);
+    ready_for_handoff_.store(decision.ready_for_handoff);
+    if (!decision.ready_for_handoff) acknowledged_handoff_.store(kNoHandoff);
+    forced_standby_.store(decision.forced_standby);
+    switchover_requested_.store(decision.switchover_requested);
+    if (decision.role && *decision.role != state_.load()) change_role(*decision.role, image);
+    announced_handoff_ = state_.load() == RedState::Active ? decision.handoff_cycle : std::nullopt;
+}
+
+void RedundancyController::begin_cycle(master::ProcessImage& image, std::uint64_t cycle,
+                                       link::Clock::time_point cycle_start) {
     image_ = &image;
     cycle_ = cycle;
-    const RedState requested = requested_.load();
-    if (requested != state_.load()) change_role(requested, image);
-
-    const bool active = state_.load() == RedState::Active;
-    if (!active) {
+    cycle_start_ = cycle_start;
+    if (state_.load() == RedState::Inactive) {
         apply_mirror(image);
-    } else if (partner_seen_ &&
-               std::chrono::steady_clock::now() - partner_last_seen_ > options_.partner_silence) {
-        partner_seen_ = false;
-        log()->warn("the partner stopped answering in the CMF");
-        raise(master::EventKind::PartnerLost);
+        // Count with the partner: this cycle is the one after its newest mirrored one.
+        if (mirrored_->cycle != 0 && mirrored_->cycle != followed_cycle_) {
+            followed_cycle_ = mirrored_->cycle;
+            cycle_ = mirrored_->cycle + 1;
+            master_.follow_cycle(cycle_);
+        }
+        hot_standby_.store(mirror_fresh());
+        partner_differs_.store(mirror_->mismatch().has_value());
     }
+    if (decider_ != nullptr) {
+        apply(decider_->decide(observe()), image);
+    } else if (const RedState requested = requested_.load(); requested != state_.load()) {
+        change_role(requested, image);
+    }
+    publish_status();
+}
 
+void RedundancyController::publish_status() {
+    const bool active = state_.load() == RedState::Active;
     std::lock_guard lock(status_mutex_);
     status_.state = state_.load();
-    status_.partner_seen = active ? partner_seen_ : mirror_fresh();
+    status_.partner_seen = active ? partner_last_answer_ && std::chrono::steady_clock::now() - *partner_last_answer_ <=
+                                                                options_.partner_silence
+                                  : mirror_fresh();
     status_.mirrored_cycle = mirrored_->cycle;
+    status_.partner_status = partner_status_;
+    status_.partner_last_answer = partner_last_answer_;
+    status_.last_cmf_completed = mirror_->last_completed();
+    status_.epoch = epoch_;
     if (active) {
+        status_.handoff_cycle = announced_handoff_;
         status_.master_pd_out.assign(master_pd_out_.begin(), master_pd_out_.end());
         status_.master_pd_in.assign(master_pd_in_.begin(), master_pd_in_.end());
     } else {
+        const auto acknowledged = acknowledged_handoff_.load();
+        status_.handoff_cycle = acknowledged == kNoHandoff ? std::nullopt : std::optional<std::uint64_t>(acknowledged);
         status_.master_pd_out.assign(mirrored_->master_pd_out.begin(), mirrored_->master_pd_out.end());
         std::lock_guard pd_lock(pd_in_mutex_);
         status_.master_pd_in.assign(pd_in_to_send_.begin(), pd_in_to_send_.end());
@@ -202,6 +347,14 @@ void RedundancyController::send_frames(master::FrameSender& sender, std::uint64_
     content.cycle = cycle;
     content.master_state = master_.state();
     content.flags.ring_broken = master_.ring_state() == master::RingState::Broken;
+    content.flags.handoff_request = announced_handoff_.has_value();
+    content.sender.epoch = epoch_;
+    content.sender.handoff_cycle = announced_handoff_.value_or(0);
+    content.sender.slaves_reached = master_.slaves_reached().value_or(0);
+    content.sender.member = member_;
+    content.sender.send_offset_ns = static_cast<std::uint32_t>(std::clamp<std::int64_t>(
+        std::chrono::duration_cast<std::chrono::nanoseconds>(link::Clock::now() - cycle_start_).count(), 0,
+        std::numeric_limits<std::uint32_t>::max()));
     content.slaves = slaves_;
     if (options_.parameters.update_slave_pd_in) content.shadow_inputs = image_->inputs();
     content.master_pd_out = master_pd_out_;
@@ -218,18 +371,19 @@ void RedundancyController::read_partner_answer(ConstBytes frame) {
     for (const auto d : *view) {
         if (!is_cmf_datagram(d)) continue;
         const auto segment = CmfSegmentHeader::decode(d.data(), d.frame_offset() + wire::kDatagramHeaderSize);
-        if (!segment || segment->kind != CmfKind::MasterPdIn || d.wkc() == 0) continue;
-        // The INACTIVE filled it in on the way: the partner is there.
+        // The INACTIVE filled these in on the way (WKC +1): the partner is there.
+        if (!segment || d.wkc() == 0) continue;
         const auto payload = d.data().subspan(CmfSegmentHeader::kSize);
-        if (segment->offset < master_pd_in_.size()) {
-            const std::size_t n = std::min(payload.size(), master_pd_in_.size() - segment->offset);
-            std::copy_n(payload.begin(), n, master_pd_in_.begin() + segment->offset);
-        }
-        partner_last_seen_ = std::chrono::steady_clock::now();
-        if (!partner_seen_) {
-            partner_seen_ = true;
-            log()->info("the partner answers in the CMF");
-            raise(master::EventKind::PartnerFound);
+        if (segment->kind == CmfKind::MasterPdIn) {
+            if (segment->offset < master_pd_in_.size()) {
+                const std::size_t n = std::min(payload.size(), master_pd_in_.size() - segment->offset);
+                std::copy_n(payload.begin(), n, master_pd_in_.begin() + segment->offset);
+            }
+        } else if (segment->kind == CmfKind::StandbyStatus && segment->offset == 0 &&
+                   payload.size() >= CmfStandbyStatus::kSize) {
+            partner_status_ = CmfStandbyStatus::decode(payload);
+            partner_last_answer_ = std::chrono::steady_clock::now();
+            ++partner_answers_;
         }
     }
 }
@@ -241,11 +395,20 @@ void RedundancyController::complete(std::uint16_t, const master::ReturnedCopy& m
     }
 }
 
+void RedundancyController::foreign_frame(master::LinkRole, ConstBytes frame) {
+    ++foreign_frames_;
+    if (auto view = wire::ConstFrameView::parse(frame)) note_header(*view, std::chrono::steady_clock::now());
+}
+
 RedundancySnapshot RedundancyController::snapshot() const {
     RedundancySnapshot s;
     {
         std::lock_guard lock(status_mutex_);
         s = status_;
+    }
+    {
+        std::lock_guard lock(heard_mutex_);
+        s.heard = heard_;
     }
     s.partner_mismatch = mirror_->mismatch();
     s.forwarding = forwarding_.counters();

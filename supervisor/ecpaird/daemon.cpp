@@ -97,9 +97,11 @@ int Daemon::open() {
     cycle.realtime_priority = settings_.realtime_priority;
     cycle_thread_ = std::make_unique<master::CycleThread>(
         cycle, [this](link::Clock::time_point deadline) { master_->run_cycle(deadline); });
+    // A standby runs its cycle in step with the ACTIVE partner's.
+    if (redundancy_) cycle_thread_->set_phase_reference([this] { return redundancy_->phase_reference(); });
 
     operator_service_ = std::make_unique<OperatorService>(settings_, *master_, *state_machine_, *cycle_thread_, *demo_,
-                                                          redundancy_.get());
+                                                          redundancy_.get(), supervisor_.get());
     control_server_ = std::make_unique<control::ControlServer>(
         io_, *operator_service_, control::SocketSettings{settings_.control_path, settings_.control_mode, settings_.control_group});
     if (auto opened = control_server_->open(); !opened) {
@@ -178,7 +180,7 @@ int Daemon::open_redundancy() {
     if (!settings_.redundancy.enabled) return kOk;
     const auto& r = settings_.redundancy;
     redundancy::RedundancyOptions options;
-    options.start_active = r.start_active;
+    options.partner_silence = r.partner_silence;
     auto& p = options.parameters;
     p.eni_content_hash = eni_->content_hash;
     p.cycle_time = master_->options().cycle_time;
@@ -196,6 +198,19 @@ int Daemon::open_redundancy() {
     }
     redundancy_ = std::move(*created);
     redundancy_->set_on_role_change([this](const redundancy::RoleChange& change) { on_role_change(change); });
+
+    supervisor::SupervisorOptions decisions;
+    decisions.cycle_time = master_->options().cycle_time;
+    decisions.comm_timeout = r.comm_timeout;
+    decisions.partner_silence = r.partner_silence;
+    decisions.start_active = r.start_active;
+    decisions.start_in_forced_standby = r.start_in_forced_standby;
+    decisions.takeover_from_differing_partner = r.takeover_from_differing_partner;
+    decisions.arbitration.listen_time = r.listen_time;
+    decisions.arbitration.backoff_min = r.backoff_min;
+    decisions.arbitration.backoff_max = r.backoff_max;
+    supervisor_ = std::make_unique<supervisor::Supervisor>(decisions, random_, events_);
+    redundancy_->set_role_decider(supervisor_.get());
     topology_verifier_ = std::make_unique<redundancy::TopologyVerifier>(eni_, master_->bus(), events_);
     return kOk;
 }
@@ -257,10 +272,9 @@ void Daemon::on_cycle(master::ProcessImage& image, const master::CycleInfo& info
 
 int Daemon::run() {
     start_threads();
-    // A pair member that starts INACTIVE waits for its role: its partner drives the slaves.
-    if (!redundancy_ || redundancy_->state() == redundancy::RedState::Active) {
-        state_machine_->request(*sequencer::to_master_state(settings_.target_state));
-    }
+    // A pair member starts INACTIVE: its supervisor decides when it owns the bus
+    // (the role change then starts the state machine).
+    if (!redundancy_) state_machine_->request(*sequencer::to_master_state(settings_.target_state));
 
     boost::asio::signal_set signals(io_, SIGINT, SIGTERM);
     signals.async_wait([this](const boost::system::error_code& ec, int signal) {

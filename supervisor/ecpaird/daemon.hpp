@@ -27,6 +27,8 @@
 #include "ecpair/redundancy/topology_verifier.hpp"
 #include "ecpair/sequencer/master_state_machine.hpp"
 #include "ecpair/sequencer/slave_monitor.hpp"
+#include "ecpair/arbitration/random_source.hpp"
+#include "ecpair/supervisor/supervisor.hpp"
 #include "operator_service.hpp"
 
 namespace ecpair::daemon {
@@ -70,6 +72,8 @@ private:
     std::unique_ptr<sequencer::MasterStateMachine> state_machine_;
     std::unique_ptr<sequencer::SlaveMonitor> slave_monitor_;
     std::unique_ptr<redundancy::RedundancyController> redundancy_;  // only in a redundant pair
+    arbitration::SystemRandom random_;
+    std::unique_ptr<supervisor::Supervisor> supervisor_;            // decides the pair member's role
     std::unique_ptr<redundancy::TopologyVerifier> topology_verifier_;
     std::unique_ptr<master::CycleThread> cycle_thread_;
     std::vector<std::unique_ptr<master::ReceiveThread>> receive_threads_;

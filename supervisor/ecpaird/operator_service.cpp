@@ -93,6 +93,7 @@ control::StatusReply OperatorService::status(const control::StatusRequest& reque
         out->set_dropped_circulating(r.forwarding.dropped_circulating);
         out->set_dropped_non_ethercat(r.forwarding.dropped_non_ethercat);
         out->set_dropped_damaged(r.forwarding.dropped_damaged);
+        if (supervisor_) add_supervisor_status(r, *reply.mutable_supervisor());
     }
     const auto loop = demo_.stats();
     auto* l = reply.mutable_loopback();
@@ -119,17 +120,90 @@ std::optional<std::string> OperatorService::set_master_state(const control::SetM
     return "state: '" + request.state() + "' is not one of INIT, PREOP, SAFEOP, OP";
 }
 
+namespace {
+
+constexpr const char* kNotInPair = "this controller is not part of a redundant pair (redundancy.enabled is off)";
+
+double age_ms(const std::optional<redundancy::SteadyTime>& at) {
+    if (!at) return -1.0;
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - *at).count();
+}
+
+std::string standby_kind(const std::optional<redundancy::CmfStandbyStatus>& s) {
+    if (!s) return {};
+    if (s->partner_differs) return "differs";
+    if (s->forced) return "forced";
+    return s->hot ? "hot" : "cold";
+}
+
+std::string no_active_text(master::NoActiveReason reason) {
+    switch (reason) {
+        case master::NoActiveReason::ForcedStandby:
+            return "this member is forced to standby and no ACTIVE partner is heard";
+        case master::NoActiveReason::PartnerDiffers:
+            return "the only partner heard runs another ENI or other pair parameters and is silent";
+        case master::NoActiveReason::Isolated: return "both links of this member are down";
+    }
+    return "?";
+}
+
+}  // namespace
+
+void OperatorService::add_supervisor_status(const redundancy::RedundancySnapshot& pair,
+                                            control::SupervisorStatus& out) const {
+    const auto s = supervisor_->status();
+    out.set_state(std::string(supervisor::to_string(s.state)));
+    out.set_why(s.why);
+    out.set_forced_standby(s.forced_standby);
+    out.set_epoch(s.epoch);
+    out.set_arbitration(std::string(arbitration::to_string(s.arbitration)));
+    out.set_comm_timeout_ms(static_cast<std::uint32_t>(
+        std::chrono::duration_cast<std::chrono::milliseconds>(s.comm_timeout).count()));
+    out.set_silence_ms(std::chrono::duration<double, std::milli>(s.silence).count());
+    out.set_last_cmf_age_ms(age_ms(pair.last_cmf_completed));
+    out.set_partner_answer_age_ms(age_ms(pair.partner_last_answer));
+    if (pair.state == redundancy::RedState::Active && pair.partner_status) {
+        out.set_partner(pair.partner_status->member.to_string());
+    } else if (pair.heard) {
+        out.set_partner(pair.heard->sender.member.to_string());
+    }
+    out.set_partner_standby(standby_kind(pair.partner_status));
+    out.set_handoff_cycle(s.handoff_cycle.value_or(0));
+    if (s.no_active) out.set_no_active(no_active_text(*s.no_active));
+    out.set_takeovers(s.counters.takeovers);
+    out.set_comm_timeouts(s.counters.comm_timeouts);
+    out.set_collisions(s.counters.collisions);
+    out.set_backoffs_won(s.counters.backoffs_won);
+    out.set_backoffs_lost(s.counters.backoffs_lost);
+    out.set_handoffs(s.counters.handoffs);
+    out.set_handoffs_cancelled(s.counters.handoffs_cancelled);
+    out.set_partner_lost(s.counters.partner_lost);
+}
+
 std::optional<std::string> OperatorService::set_red_state(const control::SetRedStateRequest& request) {
-    if (!redundancy_) return "this controller is not part of a redundant pair (redundancy.enabled is off)";
+    if (!supervisor_) return kNotInPair;
     std::string name = request.state();
     std::transform(name.begin(), name.end(), name.begin(), [](unsigned char c) { return static_cast<char>(std::toupper(c)); });
     if (name == "ACTIVE") {
-        redundancy_->request(redundancy::RedState::Active);
+        if (supervisor_->status().forced_standby) return "this member is forced to standby: release it first (unforce-standby)";
+        supervisor_->request_role(redundancy::RedState::Active);
     } else if (name == "INACTIVE") {
-        redundancy_->request(redundancy::RedState::Inactive);
+        supervisor_->request_role(redundancy::RedState::Inactive);
     } else {
         return "state: '" + request.state() + "' is not ACTIVE or INACTIVE";
     }
+    return std::nullopt;
+}
+
+std::optional<std::string> OperatorService::switchover(const control::SwitchoverRequest&) {
+    if (!supervisor_) return kNotInPair;
+    if (auto started = supervisor_->switchover(); !started) return started.error();
+    return std::nullopt;
+}
+
+std::optional<std::string> OperatorService::force_standby(const control::ForceStandbyRequest& request) {
+    if (!supervisor_) return kNotInPair;
+    supervisor_->force_standby(request.forced());
     return std::nullopt;
 }
 

@@ -1,7 +1,9 @@
 #pragma once
 // Answers the operator API (control.proto) for one ecpaird: the status view
 // (states, ring, links, cycle timing, frame counters, slaves, a few process
-// image variables, the demo's loopback check) and master state requests.
+// image variables, the demo's loopback check, the pair and its supervisor),
+// master state requests and the pair's commands (red state, switchover,
+// force standby).
 
 #include <string>
 
@@ -13,6 +15,7 @@
 #include "ecpair/master/master.hpp"
 #include "ecpair/redundancy/redundancy_controller.hpp"
 #include "ecpair/sequencer/master_state_machine.hpp"
+#include "ecpair/supervisor/supervisor.hpp"
 
 namespace ecpair::daemon {
 
@@ -20,26 +23,33 @@ class OperatorService final : public control::ControlHandler {
 public:
     OperatorService(const config::DaemonSettings& settings, master::Master& master,
                     sequencer::MasterStateMachine& state_machine, const master::CycleThread& cycle_thread,
-                    const DemoApplication& demo, redundancy::RedundancyController* redundancy)
+                    const DemoApplication& demo, redundancy::RedundancyController* redundancy,
+                    supervisor::Supervisor* supervisor)
         : settings_(settings),
           master_(master),
           state_machine_(state_machine),
           cycle_thread_(cycle_thread),
           demo_(demo),
-          redundancy_(redundancy) {}
+          redundancy_(redundancy),
+          supervisor_(supervisor) {}
 
     control::StatusReply status(const control::StatusRequest& request) override;
     std::optional<std::string> set_master_state(const control::SetMasterStateRequest& request) override;
     std::optional<std::string> set_red_state(const control::SetRedStateRequest& request) override;
     control::ImageHistoryReply image_history(const control::ImageHistoryRequest& request) override;
+    std::optional<std::string> switchover(const control::SwitchoverRequest& request) override;
+    std::optional<std::string> force_standby(const control::ForceStandbyRequest& request) override;
 
 private:
+    void add_supervisor_status(const redundancy::RedundancySnapshot& pair, control::SupervisorStatus& out) const;
+
     const config::DaemonSettings& settings_;
     master::Master& master_;
     sequencer::MasterStateMachine& state_machine_;
     const master::CycleThread& cycle_thread_;
     const DemoApplication& demo_;
     redundancy::RedundancyController* redundancy_;  // null outside a pair
+    supervisor::Supervisor* supervisor_;            // null outside a pair
 };
 
 // The event as the operator API carries it.

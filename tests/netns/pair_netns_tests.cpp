@@ -134,7 +134,9 @@ TEST_CASE("the INACTIVE mirrors the ACTIVE's image every cycle and master PD goe
           "[netns][redundancy][pair]") {
     Pair pair;
     pair.reach_mirrored_op();
-    REQUIRE(pair.m1.wait_for([](const StatusReply& s) { return s.timing().cycles() > 3000; }, 20s));
+    // 2000 cycles in OP from here (reaching OP may have taken a retry of the start-up scan).
+    const auto in_op_from = pair.m1.status().timing().cycles();
+    REQUIRE(pair.m1.wait_for([in_op_from](const StatusReply& s) { return s.timing().cycles() > in_op_from + 2000; }, 20s));
 
     pair.check_mirror(1000);
 
@@ -269,8 +271,12 @@ TEST_CASE("a frame looping between two INACTIVE masters is forwarded at most onc
           "[netns][redundancy][pair]") {
     Pair pair;
     pair.reach_mirrored_op();
-    REQUIRE(pair.m1.request_red_state("INACTIVE").empty());
+    // Both forced to standby, so that neither supervisor takes the bus:
+    // m2 first, then m1, which finds no hot standby to hand over to and steps down.
+    REQUIRE(pair.m2.force_standby(true).empty());
+    REQUIRE(pair.m1.force_standby(true).empty());
     REQUIRE(pair.m1.wait_for([](const StatusReply& s) { return s.redundancy().red_state() == "INACTIVE"; }, 5s));
+    CHECK(pair.m1.status().supervisor().no_active().find("forced to standby") != std::string::npos);
     std::this_thread::sleep_for(200ms);
     const auto dropped = [&pair] {
         return pair.m1.status().redundancy().dropped_circulating() + pair.m2.status().redundancy().dropped_circulating();

@@ -46,9 +46,10 @@ std::vector<CorpusEntry> make_cmf_corpus() {
     // The MAIN and the RED copy, both processed by the INACTIVE on their way.
     auto processed = cycle_frames(large_layout(), 2);
     const std::vector<std::uint8_t> pd_in(large_layout().parameters.master_pd_in_size, 0x5A);
+    const std::vector<std::uint8_t> standby_status(redundancy::CmfStandbyStatus::kSize, 0x21);
     for (auto& f : processed) {
         auto view = wire::FrameView::parse(f.bytes);
-        redundancy::process_as_inactive(*view, pd_in);
+        redundancy::process_as_inactive(*view, pd_in, standby_status);
     }
     auto copies = processed;
     copies.insert(copies.end(), processed.begin(), processed.end());

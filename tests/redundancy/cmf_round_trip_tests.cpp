@@ -24,6 +24,9 @@ void check_round_trip(const CmfLayout& layout, const TestContent& sent, const Cm
     CHECK(got.cycle == sent.content.cycle);
     CHECK(got.master_state == sent.content.master_state);
     CHECK(got.flags == sent.content.flags);
+    CHECK(got.sender == sent.content.sender);
+    CHECK(got.standby_status.size() == CmfStandbyStatus::kSize);
+    CHECK(std::ranges::all_of(got.standby_status, [](std::uint8_t b) { return b == 0; }));
     CHECK(std::ranges::equal(got.slaves, sent.slaves));
     CHECK(std::ranges::equal(got.shadow_inputs, sent.shadow_inputs));
     CHECK(std::ranges::equal(got.master_pd_out, sent.master_pd_out));
@@ -62,22 +65,26 @@ TEST_CASE("the HEADER datagram is laid out byte by byte as WIRE_FORMAT.md says",
     REQUIRE(frames.size() == 1);
     auto view = wire::ConstFrameView::parse(frames[0].bytes);
     REQUIRE(view);
-    // HEADER 68 + 2 slaves x 6 + 16 inputs + 16 PD out + 8 PD in: five datagrams.
-    REQUIRE(view->datagram_count() == 5);
+    // HEADER 92 + 2 slaves x 6 + 16 inputs + 16 PD out + 8 PD in + 16 standby status: six datagrams.
+    REQUIRE(view->datagram_count() == 6);
     const auto first = *view->begin();
     CHECK(first.command() == wire::Command::Nop);
     CHECK(first.address() == 0x41550000u);  // ADP 0, ADO 0x4155
     CHECK(first.length() == CmfSegmentHeader::kSize + CmfHeader::kSize);
     CHECK(first.wkc() == 0);
     const auto data = first.data();
-    // segment: "CM", version 1, kind HEADER, part 0 of 5, offset 0, cycle low 0x00000029
-    CHECK(to_hex(data.first(16)) == "434d01010000050000000000" "29000000");
-    // header: version 1, state OP, flags ring broken (odd cycle), cycle 0x100000029,
-    // 2 slaves, 5 parts, sizes 12 / 16 / 16 / 8
+    // segment: "CM", version 2, kind HEADER, part 0 of 6, offset 0, cycle low 0x00000029
+    CHECK(to_hex(data.first(16)) == "434d02010000060000000000" "29000000");
+    // header: version 2, state OP, flags ring broken (odd cycle) and hand-off (cycle divisible by 3),
+    // cycle 0x100000029, 2 slaves, 6 parts, sizes 12 / 16 / 16 / 8
     CHECK(to_hex(data.subspan(16, 32)) ==
-          "0108" "0100" "2900000001000000" "0200" "0500" "0c000000" "10000000" "10000000" "08000000");
+          "0208" "0300" "2900000001000000" "0200" "0600" "0c000000" "10000000" "10000000" "08000000");
     CHECK(to_hex(data.subspan(48, 28)) == "efcdab896745230140420f0000000000100000000800000002000500");
     CHECK(load_le<std::uint64_t>(data, 76) == layout.parameters.fingerprint());
+    // sender: epoch (cycle % 7 + 1 = 4), hand-off at cycle + 4, 2 slaves reached, MAIN MAC,
+    // send offset 12345 + cycle (low 32 bits)
+    CHECK(to_hex(data.subspan(84, 24)) ==
+          "04000000" "2d00000001000000" "0200" "020000000011" "62300000");
 
     // The slave entries follow in the second datagram: present, AL status, station address, status code.
     const auto second = *std::next(view->begin());
@@ -197,8 +204,8 @@ TEST_CASE("the plan cuts sections greedily and refuses layouts beyond 65535 part
         CHECK(part.length > 0);
         expected_offset += part.length;
     }
-    CHECK(kind == CmfKind::MasterPdIn);
-    CHECK(expected_offset == 300);
+    CHECK(kind == CmfKind::StandbyStatus);
+    CHECK(expected_offset == CmfStandbyStatus::kSize);
 
     CmfLayout huge = test::small_layout();
     huge.parameters.master_pd_out_size = 200u << 20;

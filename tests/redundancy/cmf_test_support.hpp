@@ -80,7 +80,12 @@ struct TestContent {
         }
         content.cycle = cycle;
         content.master_state = eni::SlaveState::Op;
-        content.flags = redundancy::CmfFlags{cycle % 2 == 1, false};
+        content.flags = redundancy::CmfFlags{cycle % 2 == 1, cycle % 3 == 0};
+        content.sender.epoch = static_cast<std::uint32_t>(cycle % 7 + 1);
+        content.sender.handoff_cycle = content.flags.handoff_request ? cycle + 4 : 0;
+        content.sender.slaves_reached = layout.slave_count;
+        content.sender.member = wire::MacAddress{{0x02, 0x00, 0x00, 0x00, 0x00, 0x11}};
+        content.sender.send_offset_ns = static_cast<std::uint32_t>(12'345 + cycle);
         content.slaves = slaves;
         content.shadow_inputs = shadow_inputs;
         content.master_pd_out = master_pd_out;

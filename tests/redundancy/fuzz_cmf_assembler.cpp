@@ -25,6 +25,7 @@ void check_complete(const CmfAssembler& assembler) {
                        content.shadow_inputs.size() == layout.shadow_inputs_size &&
                        content.master_pd_out.size() == layout.section_size(CmfKind::MasterPdOut) &&
                        content.master_pd_in.size() == layout.section_size(CmfKind::MasterPdIn) &&
+                       content.standby_status.size() == layout.section_size(CmfKind::StandbyStatus) &&
                        static_cast<std::uint32_t>(content.cycle) == static_cast<std::uint32_t>(assembler.header().cycle);
     if (!sound) std::abort();
 }
@@ -35,6 +36,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (size == 0) return 0;
     CmfAssembler assembler(ecpair::redundancy::CmfPlan::make(ecpair::test::fuzz_layout(data[0])).value());
     const std::vector<std::uint8_t> pd_in(assembler.plan().layout().section_size(CmfKind::MasterPdIn), 0xC3);
+    const std::vector<std::uint8_t> standby_status(ecpair::redundancy::CmfStandbyStatus::kSize, 0x3C);
     std::array<std::uint8_t, ecpair::wire::kMaxFrameSizeVlan> frame{};
 
     std::size_t at = 1;
@@ -55,7 +57,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                 check_complete(assembler);
             }
         }
-        ecpair::redundancy::process_as_inactive(*view, pd_in);
+        ecpair::redundancy::process_as_inactive(*view, pd_in, standby_status);
     }
     return 0;
 }

@@ -121,6 +121,7 @@ TEST_CASE("writing, processing and assembling a CMF allocate nothing", "[redunda
     PreallocatedSender sender(writer.plan().frame_count());
     test::TestContent content(layout, 1);
     const std::vector<std::uint8_t> pd_in(layout.parameters.master_pd_in_size, 0x11);
+    const std::vector<std::uint8_t> standby_status(CmfStandbyStatus::kSize, 0x21);
 
     std::size_t completed = 0;
     const auto cycle = [&] {
@@ -128,7 +129,7 @@ TEST_CASE("writing, processing and assembling a CMF allocate nothing", "[redunda
         for (std::size_t f = 0; f < writer.plan().frame_count(); ++f) {
             auto view = wire::FrameView::parse(sender.frame(f));
             REQUIRE(view);
-            REQUIRE(process_as_inactive(*view, pd_in));
+            REQUIRE(process_as_inactive(*view, pd_in, standby_status));
             for (auto datagram : *view) {
                 const auto outcome = assembler.feed(datagram);
                 REQUIRE(outcome);

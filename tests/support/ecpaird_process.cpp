@@ -61,20 +61,34 @@ std::optional<control::StatusReply> EcpairdProcess::wait_for(
     }
 }
 
-std::string EcpairdProcess::request_state(const std::string& state) const {
-    control::Request request;
-    request.mutable_set_master_state()->set_state(state);
+std::string EcpairdProcess::command(const control::Request& request) const {
     auto response = control::call(socket().string(), request);
     if (!response) return response.error().message;
     return response->ok() ? std::string() : response->error();
 }
 
+std::string EcpairdProcess::request_state(const std::string& state) const {
+    control::Request request;
+    request.mutable_set_master_state()->set_state(state);
+    return command(request);
+}
+
 std::string EcpairdProcess::request_red_state(const std::string& state) const {
     control::Request request;
     request.mutable_set_red_state()->set_state(state);
-    auto response = control::call(socket().string(), request);
-    if (!response) return response.error().message;
-    return response->ok() ? std::string() : response->error();
+    return command(request);
+}
+
+std::string EcpairdProcess::switchover() const {
+    control::Request request;
+    request.mutable_switchover();
+    return command(request);
+}
+
+std::string EcpairdProcess::force_standby(bool forced) const {
+    control::Request request;
+    request.mutable_force_standby()->set_forced(forced);
+    return command(request);
 }
 
 control::ImageHistoryReply EcpairdProcess::image_history() const {

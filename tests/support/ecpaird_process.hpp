@@ -49,9 +49,17 @@ public:
     std::string request_state(const std::string& state) const;
     // Asks for ACTIVE or INACTIVE; empty when accepted.
     std::string request_red_state(const std::string& state) const;
+    // A zero-loss hand-off (ecpairctl switchover); empty when accepted.
+    std::string switchover() const;
+    // Forces this member to standby, or releases it; empty when accepted.
+    std::string force_standby(bool forced) const;
     control::ImageHistoryReply image_history() const;
 
+    pid_t pid() const { return process_->pid(); }
+
 private:
+    std::string command(const control::Request& request) const;  // empty when accepted, else the error
+
     EcpairdSettings settings_;
     std::optional<ChildProcess> process_;
 };

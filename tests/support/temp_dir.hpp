@@ -1,10 +1,12 @@
 #pragma once
 // A directory for one test's files (logs, sockets, captures), removed with
-// everything in it when the test ends.
+// everything in it when the test ends - unless ECPAIR_TEST_KEEP is set in
+// the environment (to read a failed test's logs afterwards).
 
 #include <unistd.h>
 
 #include <atomic>
+#include <cstdlib>
 #include <filesystem>
 #include <string>
 #include <string_view>
@@ -20,6 +22,7 @@ public:
         std::filesystem::create_directories(path_);
     }
     ~TempDir() {
+        if (std::getenv("ECPAIR_TEST_KEEP") != nullptr) return;
         std::error_code ignored;
         std::filesystem::remove_all(path_, ignored);
     }

@@ -65,6 +65,7 @@ void CycleThread::run() {
         std::lock_guard lock(timing_mutex_);
         timing_.realtime = realtime;
     }
+    const PhaseLock phase_lock(options_.period);
     auto deadline = link::Clock::now() + options_.period;
     while (!stop_.load(std::memory_order_relaxed)) {
         const auto ts = to_timespec(deadline);
@@ -77,6 +78,7 @@ void CycleThread::run() {
         const auto us = static_cast<std::size_t>(std::chrono::duration_cast<std::chrono::microseconds>(latency).count());
         std::uint64_t skipped = 0;
         deadline += options_.period;
+        if (phase_reference_) deadline = phase_lock.correct(deadline, phase_reference_());
         const auto finished = link::Clock::now();
         if (finished > deadline) {
             // Overran: resume at the next deadline still ahead instead of bursting.

@@ -1,5 +1,7 @@
 #include "ecpair/master/events.hpp"
 
+#include <algorithm>
+
 #include <fmt/format.h>
 
 #include "ecpair/master/frame_tracker.hpp"
@@ -50,6 +52,107 @@ std::string lost_frame_text(const Event& e) {
     return fmt::format("frame lost (kind {}, index {})", e.a, e.b);
 }
 
+std::string ms_text(std::uint32_t ms) { return fmt::format("{} ms", ms); }
+
+std::string comm_timeout_text(const Event& e) {
+    static constexpr const char* kAction[] = {
+        "taking over hot from the mirror (no INIT, the slaves stay in their state)",
+        "taking over cold (no fresh mirror: the slaves start over from INIT)",
+        "NOT taking over: this member is forced to standby",
+        "NOT taking over: the partner ran another ENI or other pair parameters",
+        "NOT taking over: both own links are down (isolated)"};
+    return fmt::format("no Cyclic Master Red Frame from the ACTIVE partner for {} (comm timeout {}{}): {}",
+                       ms_text(e.a), ms_text(e.b), e.d != 0 ? ", shortened because a link went down" : "",
+                       kAction[std::min<std::uint32_t>(e.c, 4)]);
+}
+
+}  // namespace
+
+std::string_view to_string(HandOffRefusal refusal) {
+    switch (refusal) {
+        case HandOffRefusal::None: return "";
+        case HandOffRefusal::PartnerNotAnswering: return "the partner does not answer in the CMF";
+        case HandOffRefusal::PartnerCold: return "the partner is no hot standby (it does not mirror this master)";
+        case HandOffRefusal::PartnerForced: return "the partner is forced to standby";
+        case HandOffRefusal::PartnerDiffers: return "the partner runs another ENI or other pair parameters";
+        case HandOffRefusal::PartnerLinkDown: return "one of the partner's links is down";
+        case HandOffRefusal::NotAcknowledged: return "the partner did not acknowledge the hand-off in time";
+        case HandOffRefusal::NotActive: return "this master is not ACTIVE";
+        case HandOffRefusal::AlreadyRunning: return "a hand-off is already under way";
+        case HandOffRefusal::PartnerLost: return "the partner went silent";
+    }
+    return "unknown reason";
+}
+
+namespace {
+
+std::string_view refusal_text(std::uint32_t code) { return to_string(static_cast<HandOffRefusal>(code)); }
+
+std::string handoff_text(const Event& e) {
+    switch (static_cast<HandOffPhase>(e.a)) {
+        case HandOffPhase::Announced:
+            return fmt::format("switchover: hand-off to the partner announced for cycle {}", e.b);
+        case HandOffPhase::Acknowledged:
+            return fmt::format("switchover: the partner acknowledged, it takes over at cycle {}", e.b);
+        case HandOffPhase::SteppedDown:
+            return fmt::format("switchover: last cycle sent, now INACTIVE; the partner sends from cycle {}", e.b);
+        case HandOffPhase::TakenOver:
+            return fmt::format("switchover: took over at cycle {} as the partner announced (hot, no cycle lost)", e.b);
+        case HandOffPhase::Cancelled:
+            return fmt::format("switchover for cycle {} cancelled: {}", e.b, refusal_text(e.c));
+        case HandOffPhase::Refused: return fmt::format("switchover refused: {}", refusal_text(e.c));
+    }
+    return "hand-off";
+}
+
+std::string_view rule_text(std::uint32_t code) {
+    switch (static_cast<RuleCode>(code)) {
+        case RuleCode::SlavesReached: return "the master that reaches more slaves keeps the bus";
+        case RuleCode::Epoch: return "same reach: the master that has owned the bus longer (older epoch) keeps it";
+        case RuleCode::Mac: return "same reach and epoch: the lower MAIN MAC keeps the bus";
+        case RuleCode::None: return "";
+    }
+    return "";
+}
+
+std::string collision_text(const Event& e) {
+    const auto backoff = fmt::format("{:.1f} ms", static_cast<double>(e.b) / 1000.0);
+    switch (static_cast<BackoffCode>(e.c)) {
+        case BackoffCode::Random:
+            return fmt::format("collision: another master sends on this bus (round {}); stopped sending, backing off "
+                               "{} (random) before listening",
+                               e.a, backoff);
+        case BackoffCode::Preferred:
+            return fmt::format("collision: another master sends on this bus (round {}); stopped sending, backing off "
+                               "{}: this master is preferred ({})",
+                               e.a, backoff, rule_text(e.d));
+        case BackoffCode::Deferring:
+            return fmt::format("collision: another master sends on this bus (round {}); stopped sending, deferring "
+                               "{}: the other master is preferred ({})",
+                               e.a, backoff, rule_text(e.d));
+    }
+    return "collision";
+}
+
+std::string arbitration_text(const Event& e) {
+    const auto theirs = e.d == 0xFFFF ? std::string("unknown") : std::to_string(e.d);
+    switch (static_cast<ArbitrationOutcome>(e.a)) {
+        case ArbitrationOutcome::TookBusAfterListening:
+            return fmt::format("arbitration: no ACTIVE master heard while listening: this master takes the bus "
+                               "(epoch {})",
+                               e.b);
+        case ArbitrationOutcome::YieldedToActive:
+            return fmt::format("arbitration: an ACTIVE master is heard (it reaches {} slaves, this one {}): standing "
+                               "by as INACTIVE",
+                               theirs, e.c);
+        case ArbitrationOutcome::KeptBusAfterCollision:
+            return fmt::format("arbitration: backoff over in silence: this master owns the bus (epoch {}, reaches {} "
+                               "slaves, the other {})",
+                               e.b, e.c, theirs);
+    }
+    return "arbitration settled";
+}
+
 }  // namespace
 
 std::string_view to_string(EventKind kind) {
@@ -74,6 +177,15 @@ std::string_view to_string(EventKind kind) {
         case EventKind::Takeover: return "takeover";
         case EventKind::HandOff: return "hand-off";
         case EventKind::TopologyVerified: return "topology-verified";
+        case EventKind::CommTimeout: return "comm-timeout";
+        case EventKind::AllLinksLost: return "all-links-lost";
+        case EventKind::LinksRestored: return "links-restored";
+        case EventKind::FramesNotReturning: return "frames-not-returning";
+        case EventKind::FramesReturning: return "frames-returning";
+        case EventKind::Collision: return "collision";
+        case EventKind::ArbitrationSettled: return "arbitration-settled";
+        case EventKind::StandbyForced: return "standby-forced";
+        case EventKind::NoActiveMaster: return "no-active-master";
     }
     return "unknown-event";
 }
@@ -116,15 +228,48 @@ std::string describe(const Event& e) {
         case EventKind::RedStateChanged:
             return prefix + fmt::format("redundancy state {} -> {}", e.a == 0 ? "INACTIVE" : "ACTIVE",
                                         e.b == 0 ? "INACTIVE" : "ACTIVE");
-        case EventKind::PartnerLost: return prefix + "partner lost";
-        case EventKind::PartnerFound: return prefix + "partner found";
+        case EventKind::PartnerLost:
+            return prefix + fmt::format("partner lost: its last answer in the CMF is {} ms old; still ACTIVE, "
+                                        "no hot standby until it answers again",
+                                        e.a);
+        case EventKind::PartnerFound:
+            return prefix + (e.a == 0 ? std::string("partner found: it answers in the CMF")
+                                      : fmt::format("partner found again after {} ms without an answer", e.a));
         case EventKind::PartnerMismatch: return prefix + "partner differs in: " + partner_differences(e.a);
         case EventKind::Takeover:
             return prefix + (e.a != 0 ? fmt::format("hot takeover: now ACTIVE in {}", state_name(e.b))
                                       : std::string("cold takeover: now ACTIVE, starting from INIT"));
-        case EventKind::HandOff: return prefix + "hand-off";
+        case EventKind::HandOff: return prefix + handoff_text(e);
         case EventKind::TopologyVerified:
             return prefix + fmt::format("background scan {} the mirrored topology", e.a != 0 ? "confirms" : "contradicts");
+        case EventKind::CommTimeout: return prefix + comm_timeout_text(e);
+        case EventKind::AllLinksLost:
+            return prefix + (e.a != 0 ? std::string("all links lost (MAIN and RED down): this ACTIVE master becomes "
+                                                    "INACTIVE, its partner may take over")
+                                      : std::string("all links lost (MAIN and RED down): isolated, will not take over"));
+        case EventKind::LinksRestored: return prefix + "a link is back: listening for an ACTIVE master again";
+        case EventKind::FramesNotReturning:
+            return prefix + fmt::format(
+                                "none of this master's frames came back on MAIN or RED for {} cycles: the ring is open "
+                                "at both ends{}; still sending",
+                                e.a,
+                                e.b != 0 ? " - most likely the failed partner's links are still up and swallow the "
+                                           "frames (its link guard did not take them down: pull its cables)"
+                                         : " (both cables, or a partner that swallows the frames)");
+        case EventKind::FramesReturning: return prefix + fmt::format("frames come back again, after {} cycles", e.a);
+        case EventKind::Collision: return prefix + collision_text(e);
+        case EventKind::ArbitrationSettled: return prefix + arbitration_text(e);
+        case EventKind::StandbyForced:
+            return prefix + (e.a != 0 ? std::string("forced to standby: this master will not become ACTIVE")
+                                      : std::string("standby no longer forced: this master may become ACTIVE"));
+        case EventKind::NoActiveMaster: {
+            static constexpr const char* kWhy[] = {
+                "this member is forced to standby and no ACTIVE partner is heard",
+                "the only master heard runs another ENI or other pair parameters and has gone silent",
+                "both of this member's links are down"};
+            return prefix + fmt::format("NO MASTER IS ACTIVE: {}; the slaves get no process data",
+                                        kWhy[std::min<std::uint32_t>(e.a, 2)]);
+        }
     }
     return prefix + "unknown event";
 }

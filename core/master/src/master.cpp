@@ -141,7 +141,8 @@ void Master::run_cycle(link::Clock::time_point now) {
     cycle_counter_.store(++cycle_);
     accept_returned_frames();
     complete_previous_cycle(now);
-    if (extension_) extension_->begin_cycle(image_, cycle_);
+    if (extension_) extension_->begin_cycle(image_, cycle_, now);
+    apply_followed_cycle();
     apply_requests();
     if (hook_) hook_(image_, CycleInfo{cycle_, state_.load(), inputs_valid_, sending_.load()});
     if (sending_.load()) send_frames(now);
@@ -149,6 +150,21 @@ void Master::run_cycle(link::Clock::time_point now) {
     in_flight_.swap(sent_this_cycle_);
     sent_this_cycle_.clear();
     stats_.cycles.fetch_add(1, std::memory_order_relaxed);
+}
+
+// A standby master takes the partner's cycle number for this cycle, before
+// anything of the cycle is sent or reported.
+void Master::apply_followed_cycle() {
+    const auto follow = cycle_to_follow_.exchange(0);
+    if (follow == 0 || sending_.load()) return;
+    // Frames still awaited (acyclic ones, carried over) were sent under the old count: give them up.
+    for (const InFlight& f : sent_this_cycle_) {
+        tracker_.close(f.id);
+        if (f.kind == FrameKind::Acyclic) acyclic_.complete(f.index, nullptr, link::Clock::now());
+    }
+    sent_this_cycle_.clear();
+    cycle_ = follow;
+    cycle_counter_.store(cycle_);
 }
 
 void Master::publish_snapshot() {
@@ -175,6 +191,7 @@ void Master::accept_returned_frames() {
             if (outcome == AcceptOutcome::Stale) stats_.late_frames.fetch_add(1, std::memory_order_relaxed);
             if (outcome != AcceptOutcome::Foreign) return;
             stats_.foreign_frames.fetch_add(1, std::memory_order_relaxed);
+            if (extension_) extension_->foreign_frame(role, frame.frame());
             // One event per cycle is enough to say "another master is on this bus".
             if (foreign_reported_cycle_ != cycle_) {
                 foreign_reported_cycle_ = cycle_;
@@ -193,6 +210,8 @@ void Master::complete_previous_cycle(link::Clock::time_point now) {
     bool ring_broken = false;
     bool lost_reported = false;
     std::optional<std::uint16_t> reachable;
+    std::optional<std::uint16_t> answered_brd;  // the largest WKC of a complete cyclic BRD
+    const bool sent_any = !in_flight_.empty();
     mismatches_.clear();
 
     for (const InFlight& f : in_flight_) {
@@ -258,8 +277,19 @@ void Master::complete_previous_cycle(link::Clock::time_point now) {
         const auto result = exchange_.complete(f.index, *view, image_.inputs(), mismatches_);
         if (!result.layout_ok) all_complete = false;
         stats_.wkc_errors.fetch_add(result.wkc_errors, std::memory_order_relaxed);
+        for (const auto d : *view) {
+            if (d.command() == wire::Command::Brd) answered_brd = std::max(answered_brd.value_or(0), d.wkc());
+        }
     }
     in_flight_.clear();
+    if (answered_brd) slaves_reached_.store(*answered_brd);
+    if (sent_any) {
+        if (any_returned) {
+            cycles_without_return_.store(0);
+        } else {
+            cycles_without_return_.fetch_add(1);
+        }
+    }
 
     for (const WkcMismatch& m : mismatches_) {
         const auto& datagrams = exchange_.plan().frames[m.frame].datagrams;
@@ -385,7 +415,7 @@ bool Master::send_on(LinkRole role, ConstBytes frame) {
 }
 
 void Master::send_copies(FrameKind kind, std::uint16_t index, Bytes frame, std::uint8_t retry_index) {
-    const std::uint8_t id = tracker_.open(kind, index, cycle_);
+    const std::uint8_t id = tracker_.open(kind, index, cycle_, frame);
     auto set_source = [&](LinkRole role) {
         const auto mac = tracker_.source_mac(id, role, retry_index);
         std::copy(mac.bytes.begin(), mac.bytes.end(), frame.begin() + 6);

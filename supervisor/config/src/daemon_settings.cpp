@@ -169,6 +169,42 @@ Expected<DaemonSettings, ConfigError> parse_daemon_settings(const std::string& t
         out.master_pd_in_size = r.master_pd_in_size();
         if (r.has_update_slave_pd_in()) out.update_slave_pd_in = r.update_slave_pd_in();
         if (r.has_update_slave_pd_out()) out.update_slave_pd_out = r.update_slave_pd_out();
+        // Times in ms, each within what makes sense for a pair of masters.
+        struct TimeField {
+            const char* name;
+            bool present;
+            std::uint32_t value;
+            std::uint32_t low, high;
+            std::chrono::milliseconds* into;
+        };
+        const TimeField times[] = {
+            {"comm_timeout_ms", r.has_comm_timeout_ms(), r.comm_timeout_ms(), 2, 10'000, &out.comm_timeout},
+            {"listen_time_ms", r.has_listen_time_ms(), r.listen_time_ms(), 1, 60'000, &out.listen_time},
+            {"backoff_min_ms", r.has_backoff_min_ms(), r.backoff_min_ms(), 1, 1'000, &out.backoff_min},
+            {"backoff_max_ms", r.has_backoff_max_ms(), r.backoff_max_ms(), 1, 10'000, &out.backoff_max},
+            {"partner_silence_ms", r.has_partner_silence_ms(), r.partner_silence_ms(), 2, 60'000, &out.partner_silence},
+        };
+        for (const auto& t : times) {
+            if (!t.present) continue;
+            if (t.value < t.low || t.value > t.high) {
+                return fail(std::string("redundancy.") + t.name,
+                            fmt::format("must be {}..{} ms (got {})", t.low, t.high, t.value));
+            }
+            *t.into = std::chrono::milliseconds(t.value);
+        }
+        if (out.backoff_max <= out.backoff_min) {
+            return fail(r.has_backoff_max_ms() ? "redundancy.backoff_max_ms" : "redundancy.backoff_min_ms",
+                        fmt::format("backoff_max_ms ({}) must be larger than backoff_min_ms ({})",
+                                    out.backoff_max.count(), out.backoff_min.count()));
+        }
+        // The timeout must outlast a few cycles, or every jitter is a failover.
+        if (std::chrono::duration_cast<std::chrono::microseconds>(out.comm_timeout) < 3 * s.cycle_time) {
+            return fail("redundancy.comm_timeout_ms",
+                        fmt::format("must be at least 3 cycles ({} µs each; got {} ms)", s.cycle_time.count(),
+                                    out.comm_timeout.count()));
+        }
+        out.start_in_forced_standby = r.start_in_forced_standby();
+        out.takeover_from_differing_partner = r.takeover_from_differing_partner();
     }
     return s;
 }

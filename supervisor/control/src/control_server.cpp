@@ -84,29 +84,29 @@ private:
                     send(past);
                 }
                 return;
-            case Request::kSetMasterState:
-                if (auto error = handler_.set_master_state(request.set_master_state())) {
-                    response.set_error(*error);
-                } else {
-                    response.set_ok(true);
-                }
-                break;
-            case Request::kSetRedState:
-                if (auto error = handler_.set_red_state(request.set_red_state())) {
-                    response.set_error(*error);
-                } else {
-                    response.set_ok(true);
-                }
-                break;
+            case Request::kSetMasterState: answer(response, handler_.set_master_state(request.set_master_state())); break;
+            case Request::kSetRedState: answer(response, handler_.set_red_state(request.set_red_state())); break;
             case Request::kImageHistory:
                 *response.mutable_image_history() = handler_.image_history(request.image_history());
                 response.set_ok(true);
                 break;
+            case Request::kSwitchover: answer(response, handler_.switchover(request.switchover())); break;
+            case Request::kForceStandby: answer(response, handler_.force_standby(request.force_standby())); break;
             case Request::KIND_NOT_SET:
-                response.set_error("empty request: set one of status, watch_events, set_master_state, set_red_state, image_history");
+                response.set_error(
+                    "empty request: set one of status, watch_events, set_master_state, set_red_state, image_history, "
+                    "switchover, force_standby");
                 break;
         }
         send(response);
+    }
+
+    static void answer(Response& response, const std::optional<std::string>& error) {
+        if (error) {
+            response.set_error(*error);
+        } else {
+            response.set_ok(true);
+        }
     }
 
     void reject(const std::string& why) {

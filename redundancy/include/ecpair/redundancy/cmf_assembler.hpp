@@ -38,10 +38,10 @@ public:
     };
 
     // The lowest WKC among the parts of the completed cycle as they were
-    // stored: what the INACTIVE read (+2 each) and wrote (+1, MASTER_PD_IN).
+    // stored: what the INACTIVE read (+2 each) and wrote (+1, MASTER_PD_IN and STANDBY_STATUS).
     struct WorkingCounters {
         std::uint16_t lowest_read = 0;
-        std::optional<std::uint16_t> lowest_write;  // nullopt when there is no MASTER_PD_IN section
+        std::optional<std::uint16_t> lowest_write;  // of the sections the INACTIVE writes
     };
 
     struct Counters {

@@ -1,10 +1,10 @@
 #pragma once
-// The Cyclic Master Red Frame format, version 1 (docs/WIRE_FORMAT.md).
+// The Cyclic Master Red Frame format, version 2 (docs/WIRE_FORMAT.md).
 //
 // A CMF is what the ACTIVE tells its standby every cycle, in NOP datagrams
 // addressed ADP 0 / ADO 0x4155 that no slave processes. The content is cut
 // into sections (HEADER, SLAVE_STATE_IMAGE, SHADOW_INPUTS, MASTER_PD_OUT,
-// MASTER_PD_IN); every datagram carries one piece of one section behind a
+// MASTER_PD_IN, STANDBY_STATUS); every datagram carries one piece of one section behind a
 // 16-byte segment header (kind, part number, byte offset, cycle) so that a
 // receiver can place it without context. How the sections are cut into
 // datagrams and frames is fixed by the layout (CmfPlan): both masters of a
@@ -28,10 +28,11 @@
 #include "ecpair/master/slave_state_image.hpp"
 #include "ecpair/redundancy/pair_parameters.hpp"
 #include "ecpair/wire/datagram.hpp"
+#include "ecpair/wire/mac_address.hpp"
 
 namespace ecpair::redundancy {
 
-inline constexpr std::uint8_t kCmfFormatVersion = 1;
+inline constexpr std::uint8_t kCmfFormatVersion = 2;
 
 // The sections, in the order the plan lays them out.
 enum class CmfKind : std::uint8_t {
@@ -40,9 +41,11 @@ enum class CmfKind : std::uint8_t {
     ShadowInputs = 3,
     MasterPdOut = 4,  // ACTIVE -> INACTIVE master process data
     MasterPdIn = 5,   // INACTIVE -> ACTIVE master process data, filled in by the INACTIVE
+    StandbyStatus = 6,  // INACTIVE -> ACTIVE: what kind of standby it is (CmfStandbyStatus), filled in by the INACTIVE
 };
-inline constexpr std::array<CmfKind, 5> kCmfKinds{CmfKind::Header, CmfKind::SlaveStateImage, CmfKind::ShadowInputs,
-                                                  CmfKind::MasterPdOut, CmfKind::MasterPdIn};
+inline constexpr std::array<CmfKind, 6> kCmfKinds{CmfKind::Header,      CmfKind::SlaveStateImage,
+                                                  CmfKind::ShadowInputs, CmfKind::MasterPdOut,
+                                                  CmfKind::MasterPdIn,   CmfKind::StandbyStatus};
 
 // ---- errors
 
@@ -148,12 +151,24 @@ private:
 
 struct CmfFlags {
     bool ring_broken = false;      // the ACTIVE sees a line break
-    bool handoff_request = false;  // reserved for switchover: the ACTIVE asks its partner to take over
+    bool handoff_request = false;  // switchover: the ACTIVE hands the bus to its partner at CmfSender::handoff_cycle
     friend bool operator==(const CmfFlags&, const CmfFlags&) = default;
 };
 
+// Who sends a CMF and what it claims: read by the partner for arbitration
+// (two ACTIVE masters), for a planned hand-off, and to lock its cycle to the
+// sender's.
+struct CmfSender {
+    std::uint32_t epoch = 0;           // the sender's ACTIVE term (see arbitration/): higher = took the bus later
+    std::uint64_t handoff_cycle = 0;   // with CmfFlags::handoff_request: the first cycle the partner sends
+    std::uint16_t slaves_reached = 0;  // slaves that answered the sender's last complete cycle
+    wire::MacAddress member;           // the sender's MAIN adapter: names it and breaks arbitration ties
+    std::uint32_t send_offset_ns = 0;  // from the start of the sender's cycle to this CMF's send
+    friend bool operator==(const CmfSender&, const CmfSender&) = default;
+};
+
 struct CmfHeader {
-    static constexpr std::size_t kSize = 68;
+    static constexpr std::size_t kSize = 92;
 
     std::uint8_t format_version = kCmfFormatVersion;
     eni::SlaveState master_state = eni::SlaveState::Init;
@@ -167,9 +182,11 @@ struct CmfHeader {
     std::uint32_t master_pd_in_size = 0;
     PairParameters parameters;
     std::uint64_t fingerprint = 0;
+    CmfSender sender;
 
     // The header the ACTIVE sends for a plan in a cycle.
-    static CmfHeader describe(const CmfPlan& plan, std::uint64_t cycle, eni::SlaveState master_state, CmfFlags flags);
+    static CmfHeader describe(const CmfPlan& plan, std::uint64_t cycle, eni::SlaveState master_state, CmfFlags flags,
+                              const CmfSender& sender);
     CmfLayout layout() const { return CmfLayout{parameters, slave_count, shadow_inputs_size}; }
 
     void encode(Bytes out) const;  // out.size() >= kSize
@@ -187,6 +204,27 @@ inline constexpr std::size_t kCmfSlaveEntrySize = 6;
 void encode_slave_entry(const master::SlaveStateEntry& entry, Bytes out);  // out.size() >= kCmfSlaveEntrySize
 master::SlaveStateEntry decode_slave_entry(ConstBytes in);                 // in.size() >= kCmfSlaveEntrySize
 
+// ---- the STANDBY_STATUS section: the INACTIVE tells the ACTIVE what kind of standby it is
+
+struct CmfStandbyStatus {
+    static constexpr std::size_t kSize = 16;
+
+    bool hot = false;                    // mirrors this ACTIVE, fresh and with the same fingerprint: can take over hot
+    bool forced = false;                 // forced to standby by its operator: never takes over
+    bool partner_differs = false;        // its ENI or pair parameters differ from the ACTIVE's
+    bool switchover_requested = false;   // its operator asks for a switchover
+    bool handoff_acknowledged = false;   // takes over at handoff_cycle_low, as the ACTIVE announced
+    bool main_link_up = false;
+    bool red_link_up = false;
+    wire::MacAddress member;             // its MAIN adapter
+    std::uint32_t handoff_cycle_low = 0;
+    std::uint32_t epoch = 0;             // the newest epoch it knows
+
+    void encode(Bytes out) const;  // out.size() >= kSize
+    static CmfStandbyStatus decode(ConstBytes in);  // in.size() >= kSize; reserved bits ignored
+    friend bool operator==(const CmfStandbyStatus&, const CmfStandbyStatus&) = default;
+};
+
 // ---- the values one CMF carries
 
 // Writer input; the assembler's output points into its own buffers.
@@ -194,12 +232,14 @@ struct CmfContent {
     std::uint64_t cycle = 0;
     eni::SlaveState master_state = eni::SlaveState::Init;
     CmfFlags flags;
+    CmfSender sender;
     std::span<const master::SlaveStateEntry> slaves;
     ConstBytes shadow_inputs;  // the merged input image of the last cycle
     ConstBytes master_pd_out;  // ACTIVE -> INACTIVE
     // INACTIVE -> ACTIVE. Only meaningful when decoded: the writer reserves
-    // the section (zeros) and the INACTIVE writes it as it forwards the frame.
+    // these sections (zeros) and the INACTIVE writes them as it forwards the frame.
     ConstBytes master_pd_in;
+    ConstBytes standby_status;  // CmfStandbyStatus::kSize bytes
 };
 
 }  // namespace ecpair::redundancy

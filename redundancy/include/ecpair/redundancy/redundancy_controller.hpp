@@ -11,8 +11,19 @@
 //             state, slave state image and process image into this master
 //             every cycle (hot standby).
 //
-// Role requests are applied at the next cycle boundary (begin_cycle);
-// requesting the current role does nothing. Becoming ACTIVE from a fresh
+// Who decides the role: a RoleDecider (the Supervisor) when one is set,
+// asked at every cycle boundary with what the controller saw; otherwise
+// explicit requests (request()). Either way a change takes effect at the
+// next cycle boundary (begin_cycle); asking for the current role does
+// nothing.
+//
+// What the controller adds to the CMF for its decider (docs/WIRE_FORMAT.md):
+// as ACTIVE its epoch, reach, MAIN MAC, send offset and a hand-off
+// announcement in the header; as INACTIVE its standby status, filled into
+// every CMF it forwards, acknowledging an announced hand-off when the
+// decider says it is ready. While INACTIVE the master counts cycles with
+// the partner's numbering and, through phase_reference(), runs its cycle in
+// step with the partner's (so that a hand-off needs no extra cycle). Becoming ACTIVE from a fresh
 // mirror is a hot takeover: process data goes out from the mirrored image in
 // that same cycle, the slaves keep their state, and the topology is known
 // from the mirrored slave state image (a background scan verifies it).
@@ -36,15 +47,13 @@
 #include "ecpair/redundancy/cmf_writer.hpp"
 #include "ecpair/redundancy/image_history.hpp"
 #include "ecpair/redundancy/pair_parameters.hpp"
+#include "ecpair/redundancy/role_decider.hpp"
 #include "ecpair/redundancy/store_and_forward.hpp"
 
 namespace ecpair::redundancy {
 
 class Mirror;
 struct MirroredCycle;
-
-enum class RedState : std::uint8_t { Inactive = 0, Active = 1 };
-std::string_view to_string(RedState state);
 
 struct RedundancyOptions {
     bool start_active = false;
@@ -58,6 +67,11 @@ struct RedundancyOptions {
     std::chrono::milliseconds partner_silence{100};
 };
 
+// Where a standby master's cycle should be: the partner's cycle start, as
+// estimated from the arrival of its CMF headers, plus this lag, so that the
+// standby's boundary comes just after the partner's.
+inline constexpr std::int64_t kPhaseLagDivisor = 16;  // lag = cycle time / 16
+
 struct RoleChange {
     RedState from;
     RedState to;
@@ -70,6 +84,12 @@ struct RedundancySnapshot {
     bool partner_seen = false;
     std::optional<std::string> partner_mismatch;
     std::uint64_t mirrored_cycle = 0;
+    std::optional<HeardActive> heard;                // the newest CMF header of another master
+    std::optional<CmfStandbyStatus> partner_status;  // ACTIVE: the partner's newest standby status
+    std::optional<SteadyTime> partner_last_answer;   // ACTIVE
+    std::optional<SteadyTime> last_cmf_completed;    // INACTIVE
+    std::uint32_t epoch = 0;
+    std::optional<std::uint64_t> handoff_cycle;      // ACTIVE: announced; INACTIVE: acknowledged
     std::vector<std::uint8_t> master_pd_out;  // ACTIVE: sent; INACTIVE: received
     std::vector<std::uint8_t> master_pd_in;   // ACTIVE: received; INACTIVE: sent
     StoreAndForwardCounters forwarding;
@@ -85,6 +105,11 @@ public:
     // ---- any thread
     void request(RedState state);
     RedState state() const { return state_.load(); }
+    // Set before the cycle runs; from then on it decides the role (request() is not used).
+    void set_role_decider(RoleDecider* decider) { decider_ = decider; }
+    // INACTIVE: a boundary of the partner's cycle schedule for the cycle
+    // thread's PhaseLock; nullopt while ACTIVE or without fresh CMF headers.
+    std::optional<link::Clock::time_point> phase_reference() const;
     RedundancySnapshot snapshot() const;
     const ImageHistory& history() const { return history_; }
     // Called on the cycle thread right after a role change took effect; must not block.
@@ -103,10 +128,11 @@ public:
     void set_master_pd_in(ConstBytes data);
 
     // ---- master::CycleExtension (cycle thread)
-    void begin_cycle(master::ProcessImage& image, std::uint64_t cycle) override;
+    void begin_cycle(master::ProcessImage& image, std::uint64_t cycle, link::Clock::time_point cycle_start) override;
     void send_frames(master::FrameSender& sender, std::uint64_t cycle) override;
     void complete(std::uint16_t index, const master::ReturnedCopy& main_copy,
                   const master::ReturnedCopy& red_copy) override;
+    void foreign_frame(master::LinkRole arrived_on, ConstBytes frame) override;
 
 private:
     RedundancyController(master::Master& master, const RedundancyOptions& options, master::EventQueue& events,
@@ -117,10 +143,19 @@ private:
     bool mirror_fresh() const;
     void read_partner_answer(ConstBytes frame);
     void raise(master::EventKind kind, std::uint32_t a = 0, std::uint32_t b = 0);
+    PairObservation observe() const;
+    void apply(const RoleDecision& decision, master::ProcessImage& image);
+    void publish_status();
+    // Receive threads (INACTIVE) and the cycle thread (ACTIVE, foreign frames):
+    // remembers a CMF header of another master; returns it.
+    std::optional<CmfHeader> note_header(const wire::ConstFrameView& frame, SteadyTime at);
+    CmfStandbyStatus standby_status() const;
 
     master::Master& master_;
     RedundancyOptions options_;
     master::EventQueue& events_;
+    RoleDecider* decider_ = nullptr;
+    const wire::MacAddress member_;  // our MAIN adapter
     CmfWriter writer_;
     ImageHistory history_;
     std::unique_ptr<Mirror> mirror_;
@@ -133,16 +168,36 @@ private:
     // Cycle thread.
     master::ProcessImage* image_ = nullptr;
     std::uint64_t cycle_ = 0;
+    link::Clock::time_point cycle_start_{};
+    std::uint64_t followed_cycle_ = 0;  // the mirrored cycle the master's count last followed
+    std::uint32_t epoch_ = 0;
+    std::optional<std::uint64_t> announced_handoff_;
+    std::uint64_t partner_answers_ = 0;
+    std::optional<SteadyTime> partner_last_answer_;
+    std::optional<CmfStandbyStatus> partner_status_;
+    std::uint64_t foreign_frames_ = 0;
     std::unique_ptr<MirroredCycle> mirrored_;  // the newest mirrored cycle taken
     std::vector<master::SlaveStateEntry> slaves_;
     std::vector<std::uint8_t> master_pd_out_;
     std::vector<std::uint8_t> master_pd_in_;
-    std::chrono::steady_clock::time_point partner_last_seen_{};
-    bool partner_seen_ = false;
 
     // Shared with the receive threads (the INACTIVE's answer goes into forwarded CMFs).
     mutable std::mutex pd_in_mutex_;
     std::vector<std::uint8_t> pd_in_to_send_;
+    std::atomic<bool> hot_standby_{false};
+    std::atomic<bool> ready_for_handoff_{false};
+    std::atomic<bool> forced_standby_{false};
+    std::atomic<bool> switchover_requested_{false};
+    std::atomic<bool> partner_differs_{false};
+    std::atomic<std::uint32_t> standby_epoch_{0};
+    static constexpr std::uint64_t kNoHandoff = 0;
+    std::atomic<std::uint64_t> acknowledged_handoff_{kNoHandoff};
+    std::array<SteadyTime, 2> arrival_{};  // per arrival link, written by that link's receive thread
+    // CMF headers of other masters (receive threads and cycle thread).
+    mutable std::mutex heard_mutex_;
+    std::optional<HeardActive> heard_;
+    std::uint64_t headers_heard_ = 0;
+    std::optional<link::Clock::time_point> partner_cycle_start_;  // estimated, of heard_'s cycle
     // For snapshot() from other threads.
     mutable std::mutex status_mutex_;
     RedundancySnapshot status_;

@@ -4,6 +4,9 @@
 // accumulates, and runs the cycle body. It asks for SCHED_FIFO; when the
 // system does not permit it, it says so once and runs anyway.
 //
+// With a phase reference (set before start) the deadlines follow another
+// schedule (PhaseLock): a standby master runs in step with its partner.
+//
 // Timing is measured as it goes: how late each wake-up was (a histogram with
 // 1 µs buckets), how many cycles started late, how many were skipped because
 // the previous one overran.
@@ -19,6 +22,7 @@
 #include <vector>
 
 #include "ecpair/link/link.hpp"
+#include "ecpair/master/phase_lock.hpp"
 
 namespace ecpair::master {
 
@@ -44,12 +48,15 @@ struct CycleTiming {
 class CycleThread {
 public:
     using Body = std::function<void(link::Clock::time_point deadline)>;
+    // A boundary of the schedule to follow, asked after every cycle; nullopt: run free.
+    using PhaseReference = std::function<std::optional<link::Clock::time_point>()>;
 
     CycleThread(CycleThreadOptions options, Body body);
     ~CycleThread();
     CycleThread(const CycleThread&) = delete;
     CycleThread& operator=(const CycleThread&) = delete;
 
+    void set_phase_reference(PhaseReference reference) { phase_reference_ = std::move(reference); }
     void start();
     void stop();  // waits for the running cycle to finish
     CycleTiming timing() const;
@@ -59,6 +66,7 @@ private:
 
     CycleThreadOptions options_;
     Body body_;
+    PhaseReference phase_reference_;
     std::thread thread_;
     std::atomic<bool> stop_{false};
     mutable std::mutex timing_mutex_;

@@ -34,12 +34,66 @@ enum class EventKind : std::uint8_t {
     TransitionFailed,     // a = from state, b = to state, c = slave index or 0xFFFF for the master
     FrameResponseError,   // a = reason (FrameResponseReason), b = link role
     RedStateChanged,      // a = from, b = to (redundancy::RedState)
-    PartnerLost,
-    PartnerFound,
+    PartnerLost,          // a = age of the partner's last answer in ms
+    PartnerFound,         // a = ms without an answer before (0: first answer)
     PartnerMismatch,      // a = what differs (kDiffers* bits)
     Takeover,             // a = 1 hot / 0 cold, b = the master state taken over
-    HandOff,
+    HandOff,              // a = HandOffPhase, b = the hand-off cycle (low 32 bits), c = HandOffRefusal
     TopologyVerified,     // a = 1 if the background scan matches the mirrored image
+    // ---- supervisor and arbitration: a pair member decides its own role
+    CommTimeout,          // a = silence in ms, b = the timeout in ms, c = SilenceAction, d = 1 if shortened by a link loss
+    AllLinksLost,         // a = 1 if this master was ACTIVE (it stepped down), 0 if INACTIVE (isolated)
+    LinksRestored,        // a link is back after all were lost
+    FramesNotReturning,   // a = cycles in a row without any frame back, b = 1 right after a takeover
+    FramesReturning,      // a = cycles it took
+    Collision,            // a = round, b = backoff in µs, c = BackoffCode, d = RuleCode
+    ArbitrationSettled,   // a = ArbitrationOutcome, b = our epoch, c = slaves we reach, d = slaves the other reaches (0xFFFF unknown)
+    StandbyForced,        // a = 1 forced, 0 released
+    NoActiveMaster,       // a = NoActiveReason
+};
+
+// ---- what the supervisor's events carry (in a..d)
+enum class SilenceAction : std::uint8_t {
+    TakingOverHot,          // from the fresh mirror: no INIT, the slaves stay where they are
+    TakingOverCold,         // no fresh mirror: the slaves start over from INIT
+    RefusedForced,          // forced to standby: never takes over
+    RefusedPartnerDiffers,  // the silent partner ran another ENI or other pair parameters
+    RefusedIsolated,        // both own links are down
+};
+enum class HandOffPhase : std::uint8_t {
+    Announced,     // ACTIVE: the hand-off is in the CMF, for cycle b
+    Acknowledged,  // ACTIVE: the partner will take over at cycle b
+    SteppedDown,   // ACTIVE: sent its last cycle, now INACTIVE
+    TakenOver,     // INACTIVE: took over at cycle b as announced
+    Cancelled,     // either side: the hand-off did not happen (c says why)
+    Refused,       // not started (c says why)
+};
+enum class HandOffRefusal : std::uint8_t {
+    None,
+    PartnerNotAnswering,  // no standby status came back from the partner lately
+    PartnerCold,          // the partner does not mirror this master (not fresh)
+    PartnerForced,        // the partner is forced to standby
+    PartnerDiffers,       // the partner runs another ENI or other pair parameters
+    PartnerLinkDown,      // one of the partner's links is down
+    NotAcknowledged,      // the partner did not acknowledge in time
+    NotActive,            // this master is not ACTIVE and its partner did not hand off
+    AlreadyRunning,       // a hand-off is under way
+    PartnerLost,          // the partner went silent during the hand-off
+};
+// "the partner is forced to standby" (for events and operator replies).
+std::string_view to_string(HandOffRefusal refusal);
+
+enum class BackoffCode : std::uint8_t { Random = 0, Preferred = 1, Deferring = 2 };
+enum class RuleCode : std::uint8_t { SlavesReached = 0, Epoch = 1, Mac = 2, None = 3 };
+enum class ArbitrationOutcome : std::uint8_t {
+    TookBusAfterListening,  // start-up: no ACTIVE heard
+    YieldedToActive,        // start-up or backoff: an ACTIVE was heard
+    KeptBusAfterCollision,  // backoff over in silence: this master owns the bus
+};
+enum class NoActiveReason : std::uint8_t {
+    ForcedStandby,   // this member is forced to standby and no ACTIVE partner is heard
+    PartnerDiffers,  // the only master heard runs another ENI / other parameters, and is silent now
+    Isolated,        // both own links are down
 };
 
 // What differs from a redundant partner (EventKind::PartnerMismatch, a).

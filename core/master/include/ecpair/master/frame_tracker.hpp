@@ -5,6 +5,15 @@
 // bytes of the source MAC (bytes 3-5: which of our NICs sent it). A frame
 // whose NIC bytes are neither of ours comes from a foreign master.
 //
+// 256 frame ids last only a few cycles when a cycle sends dozens of frames,
+// and a copy may come back long after its frame was given up (an overloaded
+// segment, a stalled machine). So a returned copy must also be the frame
+// that is in the slot now: every use of a slot has a generation, written
+// into the index byte of each of its datagrams, and the copy's datagram
+// structure (commands, lengths, index bytes, the addresses no slave changes)
+// must be the one that was sent. Anything else is stale, never someone
+// else's answer.
+//
 // Owned by the cycle thread: no locking. Slot buffers are allocated once.
 
 #include <array>
@@ -40,8 +49,10 @@ class FrameTracker {
 public:
     FrameTracker(wire::NicBytes main_nic, wire::NicBytes red_nic);
 
-    // Opens the next frame id for a frame about to be sent.
-    std::uint8_t open(FrameKind kind, std::uint16_t index, std::uint64_t cycle);
+    // Opens the next frame id for `frame`, about to be sent: stamps the slot's
+    // generation into the index byte of every datagram and keeps the frame's
+    // signature. `frame` must be a valid EtherCAT frame.
+    std::uint8_t open(FrameKind kind, std::uint16_t index, std::uint64_t cycle, Bytes frame);
     void close(std::uint8_t id) { slots_[id].sent.open = false; }
 
     AcceptOutcome accept(LinkRole arrived_on, ConstBytes frame);
@@ -55,6 +66,8 @@ public:
 private:
     struct Slot {
         SentFrame sent;
+        std::uint8_t generation = 0;
+        std::uint64_t signature = 0;  // of the frame as sent
         std::array<std::array<std::uint8_t, wire::kMaxFrameSizeVlan>, 2> copies{};
         std::array<std::size_t, 2> sizes{};
         std::array<LinkRole, 2> arrived_on{};

@@ -100,6 +100,18 @@ public:
     void set_sending(bool enabled) { sending_requested_.store(enabled); }
     // The cycle counter (advanced by run_cycle).
     std::uint64_t cycle() const { return cycle_counter_.load(); }
+    // While not sending, from the extension's begin_cycle: number the current
+    // cycle `cycle` (a standby master counts with the partner it follows, so
+    // both name a cycle alike).
+    void follow_cycle(std::uint64_t cycle) { cycle_to_follow_.store(cycle); }
+    // Slaves that answered the AL-status BRD of the last cycle that had one
+    // complete (nullopt before that, or when no cyclic frame carries a BRD).
+    std::optional<std::uint16_t> slaves_reached() const {
+        const auto r = slaves_reached_.load();
+        return r < 0 ? std::nullopt : std::optional<std::uint16_t>(static_cast<std::uint16_t>(r));
+    }
+    // Cycles in a row, up to the last one, in which this master sent and no copy of any frame came back.
+    std::uint64_t cycles_without_return() const { return cycles_without_return_.load(); }
     bool sending() const { return sending_.load(); }
     RingState ring_state() const { return ring_state_.load(); }
     // Slaves reachable from MAIN while the ring is broken (from a BRD's WKC), nullopt when unknown.
@@ -143,6 +155,7 @@ private:
     bool is_complete(const InFlight& f, const ReturnedCopy& main_copy, const ReturnedCopy& red_copy,
                      const MergeResult& merged, const wire::ConstFrameView& view) const;
     void observe_ring(bool closed, bool broken, std::optional<std::uint16_t> reachable);
+    void apply_followed_cycle();
     void apply_requests();
     void send_frames(link::Clock::time_point now);
     void send_copies(FrameKind kind, std::uint16_t index, Bytes frame, std::uint8_t retry_index = 0);
@@ -190,6 +203,9 @@ private:
     std::atomic<RingState> ring_state_{RingState::Unknown};
     static constexpr std::int32_t kReachableUnknown = -1;
     std::atomic<std::int32_t> reachable_from_main_{kReachableUnknown};
+    std::atomic<std::uint64_t> cycle_to_follow_{0};  // 0: none requested
+    std::atomic<std::int32_t> slaves_reached_{-1};
+    std::atomic<std::uint64_t> cycles_without_return_{0};
     struct AtomicStats {
         std::atomic<std::uint64_t> cycles{0}, frames_sent{0}, frames_lost{0}, cycles_incomplete{0}, wkc_errors{0},
             foreign_frames{0}, send_errors{0}, late_frames{0};

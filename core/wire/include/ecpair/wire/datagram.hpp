@@ -72,6 +72,11 @@ public:
     {
         store_le<std::uint16_t>(bytes_, bytes_.size() - kWkcSize, wkc);
     }
+    void set_index(std::uint8_t index) const
+        requires kMutable
+    {
+        bytes_[1] = index;
+    }
     void set_address(std::uint32_t address) const
         requires kMutable
     {

@@ -22,6 +22,13 @@ struct RedundancySettings {
     std::uint32_t master_pd_in_size = 0;
     bool update_slave_pd_in = true;
     bool update_slave_pd_out = true;
+    std::chrono::milliseconds comm_timeout{50};
+    std::chrono::milliseconds listen_time{200};
+    std::chrono::milliseconds backoff_min{1};
+    std::chrono::milliseconds backoff_max{10};
+    std::chrono::milliseconds partner_silence{100};
+    bool start_in_forced_standby = false;
+    bool takeover_from_differing_partner = false;
 };
 
 struct DaemonSettings {

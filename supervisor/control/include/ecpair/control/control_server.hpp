@@ -28,6 +28,8 @@ public:
     virtual std::optional<std::string> set_master_state(const SetMasterStateRequest& request) = 0;
     virtual std::optional<std::string> set_red_state(const SetRedStateRequest& request) = 0;
     virtual ImageHistoryReply image_history(const ImageHistoryRequest& request) = 0;
+    virtual std::optional<std::string> switchover(const SwitchoverRequest& request) = 0;
+    virtual std::optional<std::string> force_standby(const ForceStandbyRequest& request) = 0;
 };
 
 struct SocketSettings {
