@@ -67,7 +67,9 @@ const CollisionRound& Arbiter::collision(TimePoint now, const Contender& ours, c
             break;
     }
     round_.decided_by = decision.decided_by;
+    round_.backoff += options_.settle_time;
     deadline_ = now + round_.backoff;
+    deaf_until_ = now + options_.settle_time;
     transition(ArbiterState::BackingOff,
                fmt::format("collision round {}: stop sending, back off {:.1f} ms ({}{}{})", round_.number,
                            ms(round_.backoff), to_string(round_.kind),
@@ -78,7 +80,8 @@ const CollisionRound& Arbiter::collision(TimePoint now, const Contender& ours, c
 
 Verdict Arbiter::step(TimePoint now, bool active_heard) {
     if (state_ == ArbiterState::Idle) return Verdict::Wait;
-    if (active_heard) {
+    const bool counts = state_ == ArbiterState::Listening || now >= deaf_until_;
+    if (active_heard && counts) {
         last_settled_ = now;
         transition(ArbiterState::Idle, "an ACTIVE master is heard: yield and stand by");
         return Verdict::Yield;

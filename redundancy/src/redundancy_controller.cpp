@@ -23,6 +23,7 @@
 #include "ecpair/redundancy/cmf_format.hpp"
 #include "ecpair/redundancy/cmf_inactive.hpp"
 #include "ecpair/wire/frame.hpp"
+#include "mailbox_counter_mirror.hpp"
 #include "mirror.hpp"
 
 namespace ecpair::redundancy {
@@ -74,6 +75,7 @@ RedundancyController::RedundancyController(master::Master& master, const Redunda
       writer_(plan),
       mirror_(std::make_unique<Mirror>(plan, master.plan(), master.image().inputs().size(),
                                        master.image().outputs().size(), events, history_)),
+      mailbox_counters_(std::make_unique<MailboxCounterMirror>(master.eni())),
       forwarding_(master.link(master::LinkRole::Main), master.link(master::LinkRole::Red)),
       mirrored_(std::make_unique<MirroredCycle>()) {
     const auto& p = options_.parameters;
@@ -97,7 +99,9 @@ RedundancyController::RedundancyController(master::Master& master, const Redunda
         process_as_inactive(frame, pd_in_to_send_, status);
     });
     forwarding_.set_stored_callback([this](master::LinkRole arrived_on, ConstBytes frame, bool first_pass) {
-        if (first_pass) mirror_->on_first_pass(arrived_on, frame);
+        if (!first_pass) return;
+        mirror_->on_first_pass(arrived_on, frame);
+        if (const auto view = wire::ConstFrameView::parse(frame)) mailbox_counters_->observe(*view);
     });
 
     const RedState initial = options_.start_active ? RedState::Active : RedState::Inactive;
@@ -190,6 +194,8 @@ CmfStandbyStatus RedundancyController::standby_status() const {
     s.epoch = standby_epoch_.load();
     return s;
 }
+
+std::vector<std::uint8_t> RedundancyController::partner_mailbox_counters() const { return mailbox_counters_->counters(); }
 
 std::optional<link::Clock::time_point> RedundancyController::phase_reference() const {
     if (state_.load() == RedState::Active) return std::nullopt;

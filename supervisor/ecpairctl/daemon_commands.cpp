@@ -72,6 +72,28 @@ Expected<control::Response, int> call_daemon(const std::string& path, const cont
 
 std::string yes_no(bool b) { return b ? "up" : "DOWN"; }
 
+// The supervisor's view: what this member is and why, its partner, its counters.
+void print_supervisor(std::ostream& out, const control::SupervisorStatus& v, const std::string& red_state) {
+    fmt::print(out, "  supervisor: {}{} - {}\n", v.state(), v.forced_standby() ? " (FORCED STANDBY)" : "", v.why());
+    if (!v.no_active().empty()) fmt::print(out, "  NO MASTER IS ACTIVE: {}\n", v.no_active());
+    if (red_state == "ACTIVE") {
+        fmt::print(out, "  partner {}: {}{}\n", v.partner().empty() ? "-" : v.partner(),
+                   v.partner_standby().empty() ? "no answer" : v.partner_standby() + " standby",
+                   v.partner_answer_age_ms() >= 0 ? fmt::format(", last answer {:.1f} ms ago", v.partner_answer_age_ms())
+                                                  : std::string());
+    } else {
+        fmt::print(out, "  partner {}: last CMF {}, silence {:.1f} of {} ms (comm timeout)\n",
+                   v.partner().empty() ? "-" : v.partner(),
+                   v.last_cmf_age_ms() >= 0 ? fmt::format("{:.1f} ms ago", v.last_cmf_age_ms()) : std::string("never"),
+                   v.silence_ms(), v.comm_timeout_ms());
+    }
+    if (v.handoff_cycle() != 0) fmt::print(out, "  hand-off at cycle {}\n", v.handoff_cycle());
+    fmt::print(out, "  epoch {}, arbitration {}; takeovers {}, comm timeouts {}, collisions {} (backoffs won {}, lost {}), "
+                    "hand-offs {} ({} cancelled), partner lost {}\n",
+               v.epoch(), v.arbitration(), v.takeovers(), v.comm_timeouts(), v.collisions(), v.backoffs_won(),
+               v.backoffs_lost(), v.handoffs(), v.handoffs_cancelled(), v.partner_lost());
+}
+
 void print_status(std::ostream& out, const control::StatusReply& s) {
     fmt::print(out, "{}: master {} (target {}), cycle {} µs\n", s.name(), s.master_state(), s.target_state(),
                s.cycle_time_us());
@@ -94,6 +116,7 @@ void print_status(std::ostream& out, const control::StatusReply& s) {
         fmt::print(out, "  redundancy: {}, partner {}{}\n", r.red_state(), r.partner_seen() ? "seen" : "NOT seen",
                    r.red_state() == "INACTIVE" ? fmt::format(", mirrored cycle {}", r.mirrored_cycle()) : std::string());
         if (!r.partner_mismatch().empty()) fmt::print(out, "  partner differs (cold standby): {}\n", r.partner_mismatch());
+        if (s.has_supervisor()) print_supervisor(out, s.supervisor(), r.red_state());
         auto hex = [](const std::string& bytes) {
             std::string text;
             for (const char byte : bytes.substr(0, 16)) text += fmt::format("{:02x}", static_cast<unsigned char>(byte));
@@ -248,6 +271,31 @@ int run_state_command(const std::vector<std::string>& args, std::ostream& out, s
 int run_red_state_command(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
     return run_state_request(args, out, err, "ecpairctl red-state [--socket PATH] ACTIVE|INACTIVE", "ACTIVE or INACTIVE",
                              [](control::Request& r, const std::string& s) { r.mutable_set_red_state()->set_state(s); });
+}
+
+int run_pair_command(const std::vector<std::string>& args, std::ostream& out, std::ostream& err, PairCommand command) {
+    static constexpr const char* kUsage[] = {"ecpairctl switchover [--socket PATH]",
+                                             "ecpairctl force-standby [--socket PATH]",
+                                             "ecpairctl unforce-standby [--socket PATH]"};
+    const auto which = static_cast<std::size_t>(command);
+    Common common;
+    po::options_description options("ecpairctl options");
+    add_common(options, common);
+    po::variables_map vm;
+    if (auto rc = parse(args, options, nullptr, vm, kUsage[which], out, err)) return *rc;
+    control::Request request;
+    switch (command) {
+        case PairCommand::Switchover: request.mutable_switchover(); break;
+        case PairCommand::ForceStandby: request.mutable_force_standby()->set_forced(true); break;
+        case PairCommand::UnforceStandby: request.mutable_force_standby()->set_forced(false); break;
+    }
+    if (auto response = call_daemon(common.path(), request, err); !response) return response.error();
+    static constexpr const char* kDone[] = {
+        "switchover started: watch the events for the hand-off (or `ecpairctl status`)",
+        "forced to standby: this member will not become ACTIVE (an ACTIVE one hands over first)",
+        "standby no longer forced"};
+    fmt::print(out, "{}\n", kDone[which]);
+    return kOk;
 }
 
 }  // namespace ecpair::ctl

@@ -3,7 +3,9 @@
 //   status [--variables N]   a readable table of the daemon's state
 //   events [--for SECONDS]   the event stream (watch)
 //   state STATE              ask for INIT, PREOP, SAFEOP or OP
-//   red-state STATE          make this controller ACTIVE or INACTIVE (redundant pair)
+//   red-state STATE          make this controller ACTIVE or INACTIVE (redundant pair, no hand-off)
+//   switchover               a zero-loss hand-off to the partner (asked on either member)
+//   force-standby / unforce-standby  keep this member from becoming ACTIVE, or release it
 //   compare --socket A --socket B
 //                            compare two pair members' image histories cycle by
 //                            cycle (exit 1 when any SAFEOP/OP cycle differs)
@@ -24,5 +26,7 @@ int run_events_command(const std::vector<std::string>& args, std::ostream& out, 
 int run_state_command(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 int run_compare_command(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 int run_red_state_command(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
+enum class PairCommand { Switchover, ForceStandby, UnforceStandby };
+int run_pair_command(const std::vector<std::string>& args, std::ostream& out, std::ostream& err, PairCommand command);
 
 }  // namespace ecpair::ctl

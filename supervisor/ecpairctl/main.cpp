@@ -23,7 +23,10 @@ void print_usage(std::ostream& out) {
            "  status [--variables N]    the state of a running ecpaird\n"
            "  events [--for SECONDS]    watch a running ecpaird's events\n"
            "  state STATE               ask ecpaird for INIT, PREOP, SAFEOP or OP\n"
-           "  red-state ACTIVE|INACTIVE make a controller of a pair ACTIVE or INACTIVE\n"
+           "  red-state ACTIVE|INACTIVE make a controller of a pair ACTIVE or INACTIVE (no hand-off)\n"
+           "  switchover                hand the bus to the partner without a lost cycle\n"
+           "  force-standby             keep this controller from becoming ACTIVE\n"
+           "  unforce-standby           release it\n"
            "  compare --socket A --socket B  check that a pair's images agree, cycle by cycle\n"
            "  (daemon commands take --socket PATH or --name NAME; default /run/ecpair/ecpaird.sock)\n"
            "  help                      this text\n";
@@ -47,6 +50,14 @@ int main(int argc, char** argv) {
     if (command == "state") return ecpair::ctl::run_state_command(args, std::cout, std::cerr);
     if (command == "red-state") return ecpair::ctl::run_red_state_command(args, std::cout, std::cerr);
     if (command == "compare") return ecpair::ctl::run_compare_command(args, std::cout, std::cerr);
+    using ecpair::ctl::PairCommand;
+    if (command == "switchover") return ecpair::ctl::run_pair_command(args, std::cout, std::cerr, PairCommand::Switchover);
+    if (command == "force-standby") {
+        return ecpair::ctl::run_pair_command(args, std::cout, std::cerr, PairCommand::ForceStandby);
+    }
+    if (command == "unforce-standby") {
+        return ecpair::ctl::run_pair_command(args, std::cout, std::cerr, PairCommand::UnforceStandby);
+    }
     if (command == "help" || command == "--help" || command == "-h") {
         print_usage(std::cout);
         return 0;

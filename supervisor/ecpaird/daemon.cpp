@@ -248,11 +248,17 @@ void Daemon::on_sequence_done(const sequencer::SequenceResult& result) {
 void Daemon::on_role_change(const redundancy::RoleChange& change) {
     boost::asio::post(io_, [this, change] {
         if (change.to == redundancy::RedState::Inactive) return;  // sequences stop on their own (bus refused)
+        const auto target = *sequencer::to_master_state(settings_.target_state);
+        // Mailbox messages go on from where the partner's counters stopped.
+        state_machine_->continue_mailbox_counters(redundancy_->partner_mailbox_counters());
         if (change.hot) {
-            if (const auto state = sequencer::to_master_state(change.master_state)) state_machine_->adopt(*state);
+            const auto state = sequencer::to_master_state(change.master_state);
+            if (state) state_machine_->adopt(*state);
             topology_verifier_->verify(master_->slaves().snapshot());
+            // Taken over during a transition (start-up, a state change): finish it here.
+            if (state != target) state_machine_->request(target);
         } else {
-            state_machine_->request(*sequencer::to_master_state(settings_.target_state));
+            state_machine_->request(target);
         }
     });
 }

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include <fmt/format.h>
+
 #include "ecpair/wire/al_status.hpp"
 
 namespace ecpair::daemon {
@@ -104,6 +106,13 @@ control::StatusReply OperatorService::status(const control::StatusRequest& reque
 }
 
 std::optional<std::string> OperatorService::set_master_state(const control::SetMasterStateRequest& request) {
+    if (redundancy_ && redundancy_->state() == redundancy::RedState::Inactive) {
+        const auto pair = redundancy_->snapshot();
+        return fmt::format("MasterRedStateInactive: this member is INACTIVE and must not talk to the slaves; {}",
+                           pair.heard ? fmt::format("the ACTIVE partner {} drives them: ask it",
+                                                    pair.heard->sender.member.to_string())
+                                      : std::string("no ACTIVE partner is heard"));
+    }
     std::string name = request.state();
     std::transform(name.begin(), name.end(), name.begin(), [](unsigned char c) { return static_cast<char>(std::toupper(c)); });
     static const std::pair<const char*, sequencer::MasterState> kStates[] = {

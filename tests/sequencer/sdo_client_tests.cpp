@@ -8,6 +8,7 @@
 
 #include "ecpair/sequencer/coe_init_cmd_runner.hpp"
 #include "ecpair/sequencer/sdo_client.hpp"
+#include "ecpair/wire/mailbox.hpp"
 #include "fake_mailbox_slave.hpp"
 #include "fakes.hpp"
 
@@ -140,6 +141,35 @@ TEST_CASE_METHOD(SdoFixture, "The mailbox counter runs 1..7 and wraps to 1", "[s
     slave.objects[{0x6060, 0}] = {0};
     for (int i = 0; i < 8; ++i) REQUIRE(client.download(0x6060, 0, std::vector<std::uint8_t>{1}, false));
     CHECK(slave.counters == std::vector<std::uint8_t>{1, 2, 3, 4, 5, 6, 7, 1});
+}
+
+TEST_CASE("after a takeover the SDO client continues after the partner's counter and drops its stale reply",
+          "[sequencer][sdo]") {
+    FakeMailboxSlave slave;
+    VirtualClock clock;
+    slave.objects[{0x6000, 1}] = {0x11, 0x22};
+    slave.objects[{0x6000, 2}] = {0x33};
+    // The old ACTIVE's last request (upload 0x6000:02), sent with counter 5;
+    // it lost the bus before it read the reply, which waits in SM1.
+    wire::SdoMessage upload;
+    upload.command = wire::SdoCommand::Upload;
+    upload.index = 0x6000;
+    upload.subindex = 2;
+    std::vector<std::uint8_t> request(wire::MailboxHeader::kSize + wire::CoeHeader::kSize + upload.encoded_size());
+    wire::MailboxHeader{static_cast<std::uint16_t>(request.size() - wire::MailboxHeader::kSize), 0, 0, 0,
+                        wire::MailboxType::CoE, 5}
+        .encode(request);
+    wire::CoeHeader{0, wire::CoeService::SdoRequest}.encode(std::span(request).subspan(wire::MailboxHeader::kSize));
+    upload.encode(std::span(request).subspan(wire::MailboxHeader::kSize + wire::CoeHeader::kSize));
+    sequencer::MailboxTransport old_master(slave, clock, FakeMailboxSlave::channel());
+    REQUIRE(old_master.send(request, clock.now() + std::chrono::seconds(1), {}));
+
+    SdoClient new_master(slave, clock, FakeMailboxSlave::channel());
+    new_master.continue_after(5);
+    const auto value = new_master.upload(0x6000, 1, false);
+    REQUIRE(value);
+    CHECK(*value == std::vector<std::uint8_t>{0x11, 0x22});
+    CHECK(slave.counters.back() == 6);  // not a repeat of the old ACTIVE's 5
 }
 
 TEST_CASE_METHOD(SdoFixture, "CoE InitCmds: Ccs 1 downloads, Ccs 2 with data downloads, Ccs 2 without data uploads",

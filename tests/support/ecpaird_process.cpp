@@ -1,5 +1,7 @@
 #include "ecpaird_process.hpp"
 
+#include <signal.h>
+
 #include <algorithm>
 #include <fstream>
 #include <stdexcept>
@@ -29,8 +31,13 @@ EcpairdProcess::EcpairdProcess(const TestNamespace& ns, EcpairdSettings settings
             << "log_level: \"debug\"\n"
             << settings_.extra_config << "\n";
     }
+    std::filesystem::remove(socket());
     process_.emplace(std::vector<std::string>{ecpaird_binary(), "--config", config().string()},
                      settings_.dir / (settings_.name + ".log"), &ns);
+    if (settings_.wait_until_ready) wait_ready();
+}
+
+void EcpairdProcess::wait_ready() {
     const auto give_up = std::chrono::steady_clock::now() + kStartGuard;
     while (!std::filesystem::exists(socket())) {
         if (!process_->running() || std::chrono::steady_clock::now() > give_up) {
@@ -39,6 +46,8 @@ EcpairdProcess::EcpairdProcess(const TestNamespace& ns, EcpairdSettings settings
         std::this_thread::sleep_for(std::chrono::milliseconds(10));
     }
 }
+
+void EcpairdProcess::signal(int signal_number) const { ::kill(process_->pid(), signal_number); }
 
 control::StatusReply EcpairdProcess::status(std::uint32_t variables) const {
     control::Request request;

@@ -28,17 +28,22 @@ struct EcpairdSettings {
     bool split_lrw = true;
     std::string demo = "LOOPBACK_CHECK";
     std::string extra_config;  // more textproto lines
+    bool wait_until_ready = true;  // false: the constructor returns at once (call wait_ready())
 };
 
 class EcpairdProcess {
 public:
     EcpairdProcess(const TestNamespace& ns, EcpairdSettings settings);
+    // Waits (bounded) for the operator socket; throws with the log when the daemon does not come up.
+    void wait_ready();
 
     std::filesystem::path socket() const { return settings_.dir / (settings_.name + ".sock"); }
     std::filesystem::path config() const { return settings_.dir / (settings_.name + ".textproto"); }
     std::string log() const { return process_->log(); }
     bool running() { return process_->running(); }
     int stop() { return process_->stop(); }
+    // Sends a signal to the daemon (SIGKILL, SIGSTOP, SIGCONT...).
+    void signal(int signal_number) const;
 
     // Throws std::runtime_error when the daemon does not answer.
     control::StatusReply status(std::uint32_t variables = 0) const;

@@ -66,6 +66,11 @@ std::uint8_t MailboxTransport::next_counter() {
     return counter_;
 }
 
+void MailboxTransport::continue_after(std::uint8_t last_counter) {
+    counter_ = last_counter;
+    drain_before_send_ = true;
+}
+
 Expected<std::optional<bus::DatagramReply>, MailboxError> MailboxTransport::poll(const bus::DatagramRequest& request) {
     auto reply = bus_.exchange(request);
     if (reply) return std::optional<bus::DatagramReply>(std::move(reply).value());
@@ -89,6 +94,10 @@ Expected<void, MailboxError> MailboxTransport::send(ConstBytes message, Clock::t
     request.data.assign(channel_.send.length, 0);
     std::copy(message.begin(), message.end(), request.data.begin());
     request.timeout = kDatagramTimeout;
+    if (drain_before_send_) {
+        if (auto drained = discard_stale_reply(stop); !drained) return drained;
+        drain_before_send_ = false;
+    }
     for (;;) {
         if (stop.stop_requested()) return unexpected(stopped());
         auto reply = poll(request);

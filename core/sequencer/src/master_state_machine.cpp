@@ -343,15 +343,32 @@ CommandContext MasterStateMachine::context_for(std::size_t slave_index) const {
     return context;
 }
 
+void MasterStateMachine::continue_mailbox_counters(const std::vector<std::uint8_t>& last_counters) {
+    std::lock_guard lock(mutex_);
+    for (std::size_t i = 0; i < last_counters.size() && i < eni_->slaves.size(); ++i) {
+        inherited_counters_[i] = last_counters[i];
+    }
+}
+
+// On the worker thread: SdoClients are only touched here, so a counter
+// inherited at a takeover is applied at the client's next use.
 SdoClient* MasterStateMachine::sdo_client(std::size_t slave_index) {
+    std::optional<std::uint8_t> inherited;
+    {
+        std::lock_guard lock(mutex_);
+        if (const auto it = inherited_counters_.find(slave_index); it != inherited_counters_.end()) {
+            inherited = it->second;
+            inherited_counters_.erase(it);
+        }
+    }
     auto found = sdo_clients_.find(slave_index);
-    if (found != sdo_clients_.end()) return found->second.get();
-    const auto channel = mailbox_channel_of(eni_->slaves[slave_index]);
-    if (!channel) return nullptr;
-    auto client = std::make_unique<SdoClient>(bus_, clock_, *channel);
-    auto* raw = client.get();
-    sdo_clients_.emplace(slave_index, std::move(client));
-    return raw;
+    if (found == sdo_clients_.end()) {
+        const auto channel = mailbox_channel_of(eni_->slaves[slave_index]);
+        if (!channel) return nullptr;
+        found = sdo_clients_.emplace(slave_index, std::make_unique<SdoClient>(bus_, clock_, *channel)).first;
+    }
+    if (inherited) found->second->continue_after(*inherited);
+    return found->second.get();
 }
 
 SequenceError MasterStateMachine::from_init_cmd(const InitCmdError& error, eni::Transition t) const {

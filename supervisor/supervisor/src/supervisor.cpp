@@ -76,10 +76,22 @@ std::string_view to_string(SupervisorState state) {
     return "?";
 }
 
+namespace {
+
+// The other master's last frames after a collision: its own detection takes
+// collision_cycles, and what it sent meanwhile is still on the way.
+arbitration::ArbiterOptions with_settle_time(const SupervisorOptions& options) {
+    auto arbitration = options.arbitration;
+    arbitration.settle_time = (options.collision_cycles + 2) * options.cycle_time;
+    return arbitration;
+}
+
+}  // namespace
+
 Supervisor::Supervisor(const SupervisorOptions& options, arbitration::RandomSource& random, master::EventQueue& events)
     : options_(options),
       events_(events),
-      arbiter_(options.arbitration, random),
+      arbiter_(with_settle_time(options), random),
       comm_(options.comm_timeout,
             options.link_loss_confirm.count() > 0 ? options.link_loss_confirm : 3 * options.cycle_time,
             options.cycle_time) {

@@ -13,9 +13,16 @@
 //              source MAC, or another ACTIVE's CMF): BACKING_OFF: stop
 //              sending at the next cycle boundary and wait; an ACTIVE heard
 //              meanwhile -> YIELD; the wait over in silence -> TAKE_BUS.
+//              Every wait begins with settle_time in which nothing heard
+//              counts: the other master may still be sending until its own
+//              collision detection stops it, and its frames already on the
+//              way arrive after that. Were they taken for a master that took
+//              the bus back, both could yield and leave the bus to nobody;
+//              were the bus taken back while they arrive, that would be
+//              another collision.
 //
-// How long a collision's wait is, per round (a collision within
-// repeat_window of the last one that settled is the next round):
+// How long a collision's wait is after settle_time, per round (a collision
+// within repeat_window of the last one that settled is the next round):
 //   - both reach different numbers of slaves (a repaired double line break):
 //     decided at once by the rule in contender.hpp: the preferred master
 //     waits backoff_min, the other twice backoff_max, so the bigger half keeps
@@ -47,6 +54,9 @@ struct ArbiterOptions {
     std::chrono::nanoseconds backoff_max{std::chrono::milliseconds(10)};
     // A collision this soon after the last round settled is the next round.
     std::chrono::nanoseconds repeat_window{std::chrono::seconds(2)};
+    // After a collision, what is heard this long is the other master's last
+    // frames, not a master that took the bus back (see above).
+    std::chrono::nanoseconds settle_time{std::chrono::milliseconds(5)};
 };
 
 enum class ArbiterState : std::uint8_t { Idle, Listening, BackingOff };
@@ -70,7 +80,7 @@ struct CollisionRound {
     std::uint32_t number = 0;  // 1 for a first collision
     BackoffKind kind = BackoffKind::Random;
     DecidedBy decided_by = DecidedBy::Nothing;  // with Preferred / Deferring
-    std::chrono::nanoseconds backoff{0};
+    std::chrono::nanoseconds backoff{0};  // the whole wait, settle_time included
 };
 
 class Arbiter {
@@ -101,6 +111,7 @@ private:
     RandomSource& random_;
     ArbiterState state_ = ArbiterState::Idle;
     TimePoint deadline_{};
+    TimePoint deaf_until_{};  // BackingOff: what is heard before this does not count
     CollisionRound round_;
     std::optional<TimePoint> last_settled_;
     std::uint64_t collisions_ = 0;

@@ -54,6 +54,7 @@ namespace ecpair::redundancy {
 
 class Mirror;
 struct MirroredCycle;
+class MailboxCounterMirror;
 
 struct RedundancyOptions {
     bool start_active = false;
@@ -110,6 +111,9 @@ public:
     // INACTIVE: a boundary of the partner's cycle schedule for the cycle
     // thread's PhaseLock; nullopt while ACTIVE or without fresh CMF headers.
     std::optional<link::Clock::time_point> phase_reference() const;
+    // The mailbox counter the partner used last per slave (ENI order, 0: none
+    // seen), for a new ACTIVE to continue after (MasterStateMachine).
+    std::vector<std::uint8_t> partner_mailbox_counters() const;
     RedundancySnapshot snapshot() const;
     const ImageHistory& history() const { return history_; }
     // Called on the cycle thread right after a role change took effect; must not block.
@@ -159,6 +163,7 @@ private:
     CmfWriter writer_;
     ImageHistory history_;
     std::unique_ptr<Mirror> mirror_;
+    std::unique_ptr<MailboxCounterMirror> mailbox_counters_;
     StoreAndForward forwarding_;
 
     std::atomic<RedState> state_{RedState::Inactive};

@@ -54,6 +54,11 @@ public:
     const MailboxChannel& channel() const { return channel_; }
     // The counter for the next message the master sends: 1..7, wrapping.
     std::uint8_t next_counter();
+    // After a takeover: the previous ACTIVE's last counter to this slave
+    // (0: none seen), so that the next message is not taken for its repeat,
+    // and a reply to its last request still in SM1 is dropped before the
+    // next send (the slave's mailbox must not stay wedged on it).
+    void continue_after(std::uint8_t last_counter);
 
     Expected<void, MailboxError> send(ConstBytes message, Clock::time_point deadline, std::stop_token stop);
     // The whole SM1 buffer (header first); the caller decodes it.
@@ -71,6 +76,7 @@ private:
     Clock& clock_;
     MailboxChannel channel_;
     std::uint8_t counter_ = 0;
+    bool drain_before_send_ = false;
 };
 
 }  // namespace ecpair::sequencer

@@ -101,6 +101,10 @@ public:
     // takeover, where the partner already brought the slaves there. Meant for
     // an idle machine (an INACTIVE master's sequences stop at once).
     void adopt(MasterState state);
+    // After a takeover: the mailbox counters the previous ACTIVE used last,
+    // per slave in ENI order (0: none seen); each slave's next mailbox message
+    // continues after it (SdoClient::continue_after).
+    void continue_mailbox_counters(const std::vector<std::uint8_t>& last_counters);
 
     MasterState target() const;
     MasterState current() const;
@@ -135,7 +139,8 @@ private:
 
     // Worker-thread state.
     std::vector<std::uint16_t> position_shift_;
-    std::map<std::size_t, std::unique_ptr<SdoClient>> sdo_clients_;
+    std::map<std::size_t, std::unique_ptr<SdoClient>> sdo_clients_;  // worker thread
+    std::map<std::size_t, std::uint8_t> inherited_counters_;          // guarded by mutex_, taken by sdo_client()
 
     mutable std::mutex mutex_;
     mutable std::condition_variable_any changed_;

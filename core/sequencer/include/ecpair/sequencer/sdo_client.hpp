@@ -64,6 +64,8 @@ public:
                                                          std::stop_token stop = {});
 
     const MailboxChannel& channel() const { return transport_.channel(); }
+    // After a takeover (MailboxTransport::continue_after).
+    void continue_after(std::uint8_t last_counter) { transport_.continue_after(last_counter); }
 
 private:
     struct Transfer;

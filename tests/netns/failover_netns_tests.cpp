@@ -1,0 +1,355 @@
+// The pair runs itself (issue: supervisor and arbitration), on real
+// interfaces: two ecpaird started with no role, ecsim's slave chain between
+// them (design.md §1). Each test breaks something the way a plant
+// integrator would - kills a controller, pulls a cable, breaks the line
+// twice, switches over fifty times - and then checks what matters on the
+// machine: exactly one ACTIVE master, the slaves never left OP (ecsim logs
+// every AL transition), and process data kept reaching the slaves (ecsim's
+// capture, read back: who sent process data when, which cycles the masters
+// numbered).
+
+#include <signal.h>
+
+#include <algorithm>
+#include <thread>
+
+#include <catch2/catch.hpp>
+
+#include "ecpaird_process.hpp"
+#include "ecsim_process.hpp"
+#include "ring_topology.hpp"
+#include "segment_capture.hpp"
+#include "temp_dir.hpp"
+
+using namespace ecpair::test;
+using namespace std::chrono_literals;
+using ecpair::control::StatusReply;
+
+namespace {
+
+const std::filesystem::path kEni = std::string(ECPAIR_TEST_ENI_DIR) + "/twincat_kpierczy_5slaves.xml";
+
+EcpairdSettings member(const std::string& name, const TempDir& dir, const std::string& extra = "") {
+    EcpairdSettings s;
+    s.name = name;
+    s.main_if = name + "-main";
+    s.red_if = name + "-red";
+    s.eni = kEni;
+    s.dir = dir.path();
+    s.wait_until_ready = false;
+    // No initial role: the supervisors decide.
+    s.extra_config = "cycle_time_us: 1000\nredundancy { enabled: true master_pd_out_size: 8 master_pd_in_size: 8 " +
+                     extra + " }\n";
+    return s;
+}
+
+bool all_slaves_op(const StatusReply& s) {
+    return s.slaves_size() > 0 && std::all_of(s.slaves().begin(), s.slaves().end(),
+                                              [](const auto& slave) { return slave.al_state() == "OP"; });
+}
+bool is_active(const StatusReply& s) { return s.redundancy().red_state() == "ACTIVE"; }
+bool hot_standby(const StatusReply& s) {
+    return s.redundancy().red_state() == "INACTIVE" && s.redundancy().partner_seen() && s.master_state() == "OP";
+}
+
+// A pair whose members were started together, with no role given.
+struct SupervisedPair {
+    explicit SupervisedPair(const std::string& m1_extra = "", const std::string& m2_extra = "")
+        : topology(Controllers::Pair),
+          ecsim(topology.sim(), {kEni, "sim-main", std::string("sim-red"), dir.path(), 70}) {
+        start(m1, "m1", topology.m1(), m1_extra);
+        start(m2, "m2", topology.m2(), m2_extra);
+        m1->wait_ready();
+        m2->wait_ready();
+    }
+
+    void start(std::optional<EcpairdProcess>& slot, const std::string& name, const TestNamespace& ns,
+               const std::string& extra) {
+        slot.emplace(ns, member(name, dir, extra));
+    }
+    // Restarts a member that was killed (its cables as they are).
+    void restart(std::optional<EcpairdProcess>& slot, const std::string& name, const TestNamespace& ns) {
+        slot.reset();
+        start(slot, name, ns, "");
+        slot->wait_ready();
+    }
+
+    // Waits until one member drives the slaves in OP and the other mirrors it; the ACTIVE one.
+    EcpairdProcess& settled() {
+        for (int i = 0; i < 300; ++i) {
+            const auto a = m1->status();
+            const auto b = m2->status();
+            if (is_active(a) && all_slaves_op(a) && hot_standby(b)) return *m1;
+            if (is_active(b) && all_slaves_op(b) && hot_standby(a)) return *m2;
+            std::this_thread::sleep_for(100ms);
+        }
+        FAIL("the pair did not settle with one ACTIVE in OP and a hot standby\nm1:\n" << m1->log() << "\nm2:\n"
+                                                                                           << m2->log());
+        return *m1;
+    }
+    EcpairdProcess& other(const EcpairdProcess& one) { return &one == &*m1 ? *m2 : *m1; }
+    const TestNamespace& ns_of(const EcpairdProcess& one) const { return &one == &*m1 ? topology.m1() : topology.m2(); }
+    std::string name_of(const EcpairdProcess& one) const { return &one == &*m1 ? "m1" : "m2"; }
+
+    void pull_cables_of(const EcpairdProcess& one) const {
+        const auto name = name_of(one);
+        ns_of(one).set_link(name + "-main", false);
+        ns_of(one).set_link(name + "-red", false);
+    }
+    void plug_cables_of(const EcpairdProcess& one) const {
+        const auto name = name_of(one);
+        ns_of(one).set_link(name + "-main", true);
+        ns_of(one).set_link(name + "-red", true);
+    }
+
+    // How many members are ACTIVE (of those still running).
+    int active_count() {
+        int n = 0;
+        for (auto* m : {&*m1, &*m2}) {
+            if (m->running() && is_active(m->status())) ++n;
+        }
+        return n;
+    }
+
+    // Stops ecsim (its capture complete) and reads back what the slaves received.
+    SegmentCapture capture() {
+        REQUIRE(ecsim.stop() == 0);
+        auto read = read_segment_capture(ecsim.pcap().string());
+        REQUIRE(read);
+        return *read;
+    }
+    // The simulated slaves' AL transitions out of OP since `from` (their log).
+    std::size_t slaves_leaving_op(std::size_t from) const {
+        const auto log = ecsim.log().substr(std::min(from, ecsim.log().size()));
+        std::size_t n = 0;
+        for (auto at = log.find("AL OP -> "); at != std::string::npos; at = log.find("AL OP -> ", at + 1)) ++n;
+        return n;
+    }
+
+    TempDir dir{"ecpair-failover"};
+    RingTopology topology;
+    EcsimProcess ecsim;
+    std::optional<EcpairdProcess> m1;
+    std::optional<EcpairdProcess> m2;
+};
+
+}  // namespace
+
+TEST_CASE("both members started at the same instant end with exactly one ACTIVE, every time",
+          "[netns][failover]") {
+    TempDir dir{"ecpair-start"};
+    RingTopology topology(Controllers::Pair);
+    EcsimProcess ecsim(topology.sim(), {kEni, "sim-main", std::string("sim-red"), dir.path(), 70});
+    int collided = 0;
+    for (int round = 0; round < 20; ++round) {
+        INFO("round " << round);
+        EcpairdProcess m1(topology.m1(), member("m1", dir));
+        EcpairdProcess m2(topology.m2(), member("m2", dir));
+        m1.wait_ready();
+        m2.wait_ready();
+        // Settled: one ACTIVE, the other its standby, and so for a while.
+        const auto settled = m1.wait_for(
+            [&m2](const StatusReply& a) {
+                const auto b = m2.status();
+                return (is_active(a) && !is_active(b) && b.redundancy().partner_seen()) ||
+                       (is_active(b) && !is_active(a) && a.redundancy().partner_seen());
+            },
+            10s);
+        REQUIRE(settled);
+        std::this_thread::sleep_for(300ms);
+        const auto a = m1.status();
+        const auto b = m2.status();
+        CHECK(is_active(a) + is_active(b) == 1);
+        collided += static_cast<int>(a.supervisor().collisions() + b.supervisor().collisions() > 0);
+    }
+    WARN("rounds that began with a collision: " << collided << " of 20");
+}
+
+TEST_CASE("kill -9 of the ACTIVE with its links down: the standby takes over hot, the slaves stay in OP",
+          "[netns][failover]") {
+    SupervisedPair pair;
+    auto& active = pair.settled();
+    auto& standby = pair.other(active);
+    EventRecorder events(standby.socket());
+    const auto ecsim_log = pair.ecsim.log().size();
+    std::this_thread::sleep_for(500ms);
+
+    active.signal(SIGKILL);
+    pair.pull_cables_of(active);  // what its link guard does
+    const auto took = standby.wait_for([](const StatusReply& s) { return is_active(s) && all_slaves_op(s); }, 10s);
+    INFO(events.dump());
+    REQUIRE(took);
+    CHECK(events.wait_for("takeover", "hot", 2s));
+    const auto timeout = events.wait_for("comm-timeout", "taking over hot", 2s);
+    REQUIRE(timeout);
+    CHECK(timeout->text().find("shortened because a link went down") != std::string::npos);
+    std::this_thread::sleep_for(500ms);
+    CHECK(pair.slaves_leaving_op(ecsim_log) == 0);
+
+    const auto capture = pair.capture();
+    const auto handovers = capture.handovers();
+    REQUIRE(handovers.size() == 1);
+    WARN("process data gap at the slaves after kill -9: " << handovers[0].gap_us / 1000.0 << " ms");
+    CHECK(capture.last_us() > handovers[0].at_us + 300'000);  // the new ACTIVE keeps sending
+}
+
+TEST_CASE("kill -9 of the ACTIVE with its links left up: the new ACTIVE says its frames do not come back, "
+          "and they do once the links go down",
+          "[netns][failover]") {
+    SupervisedPair pair;
+    auto& active = pair.settled();
+    auto& standby = pair.other(active);
+    EventRecorder events(standby.socket());
+    std::this_thread::sleep_for(300ms);
+
+    active.signal(SIGKILL);
+    REQUIRE(standby.wait_for(is_active, 5s));
+    const auto stuck = events.wait_for("frames-not-returning", "failed partner's links are still up", 5s);
+    INFO(events.dump());
+    REQUIRE(stuck);
+    pair.pull_cables_of(active);
+    CHECK(events.wait_for("frames-returning", "", 5s));
+    CHECK(standby.wait_for([](const StatusReply& s) { return is_active(s) && s.counters().frames_sent() > 0; }, 5s));
+}
+
+TEST_CASE("every cable pulled alone: no role changes, no cycle without a master, the slaves stay in OP",
+          "[netns][failover]") {
+    SupervisedPair pair;
+    auto& active = pair.settled();
+    auto& standby = pair.other(active);
+    const auto ecsim_log = pair.ecsim.log().size();
+    const auto takeovers_before = active.status().supervisor().takeovers() + standby.status().supervisor().takeovers();
+
+    auto pull_and_plug = [&](const std::function<void(bool)>& cable) {
+        cable(false);
+        std::this_thread::sleep_for(700ms);
+        cable(true);
+        std::this_thread::sleep_for(700ms);
+    };
+    const auto& t = pair.topology;
+    pull_and_plug([&](bool up) { up ? t.plug(Cable::M1Main) : t.pull(Cable::M1Main); });
+    pull_and_plug([&](bool up) { up ? t.plug(Cable::RingReturn) : t.pull(Cable::RingReturn); });
+    pull_and_plug([&](bool up) { up ? t.plug(Cable::MasterMaster) : t.pull(Cable::MasterMaster); });
+    pull_and_plug([&](bool up) { REQUIRE(pair.ecsim.ctl(up ? "repair 2" : "break 2").first == 0); });
+
+    CHECK(is_active(active.status()));
+    CHECK_FALSE(is_active(standby.status()));
+    CHECK(active.status().supervisor().takeovers() + standby.status().supervisor().takeovers() == takeovers_before);
+    CHECK(pair.slaves_leaving_op(ecsim_log) == 0);
+    const auto capture = pair.capture();
+    CHECK(capture.handovers().empty());
+    WARN("longest gap in process data at the slaves while cables were pulled: " << capture.longest_gap_us() / 1000.0
+                                                                                << " ms");
+}
+
+TEST_CASE("a double line break gives each half its ACTIVE; on repair the half reaching more slaves keeps it",
+          "[netns][failover]") {
+    SupervisedPair pair;
+    pair.settled();
+    const auto ecsim_log = pair.ecsim.log().size();
+    // Break after slave 2 and on the master-master cable: m1 reaches slaves 1-2, m2 slaves 3-5.
+    REQUIRE(pair.ecsim.ctl("break 2").first == 0);
+    pair.topology.pull(Cable::MasterMaster);
+    const bool two = pair.m1->wait_for(is_active, 5s).has_value() && pair.m2->wait_for(is_active, 5s).has_value();
+    REQUIRE(two);
+    std::this_thread::sleep_for(1s);
+    CHECK(pair.slaves_leaving_op(ecsim_log) == 0);  // each half kept its process data
+
+    EventRecorder m1_events(pair.m1->socket());
+    EventRecorder m2_events(pair.m2->socket());
+    REQUIRE(pair.ecsim.ctl("repair 2").first == 0);
+    pair.topology.plug(Cable::MasterMaster);
+    const auto winner = pair.m2->wait_for(
+        [&pair](const StatusReply& b) { return is_active(b) && !is_active(pair.m1->status()) && pair.m1->status().redundancy().partner_seen(); },
+        10s);
+    INFO("m1:\n" << m1_events.dump() << "m2:\n" << m2_events.dump());
+    REQUIRE(winner);  // m2's half has 3 slaves, m1's 2
+    CHECK(pair.active_count() == 1);
+    CHECK(m1_events.wait_for("collision", "the other master is preferred", 2s));
+    CHECK(m1_events.wait_for("arbitration-settled", "standing by", 2s));
+    CHECK(pair.m2->wait_for(all_slaves_op, 5s));
+    CHECK(pair.slaves_leaving_op(ecsim_log) == 0);
+}
+
+TEST_CASE("fifty switchovers in a row: every cycle numbered by exactly one master, the slaves stay in OP",
+          "[netns][failover]") {
+    SupervisedPair pair;
+    pair.settled();
+    const auto ecsim_log = pair.ecsim.log().size();
+    std::uint64_t first_cycle = 0;
+    for (int i = 0; i < 50; ++i) {
+        INFO("switchover " << i);
+        auto& active = pair.settled();
+        auto& standby = pair.other(active);
+        if (first_cycle == 0) first_cycle = active.status().timing().cycles();
+        REQUIRE(active.switchover().empty());
+        REQUIRE(standby.wait_for(is_active, 5s));
+    }
+    pair.settled();
+    CHECK(pair.slaves_leaving_op(ecsim_log) == 0);
+    const auto capture = pair.capture();
+    std::size_t handovers = capture.handovers().size();
+    CHECK(handovers >= 50);
+    // Cycles are numbered alike on both members: every number after the
+    // first switchover's was sent by exactly one master.
+    std::uint64_t from = 0;
+    for (const auto& [member, cycles] : capture.cmf_cycles) from = std::max(from, *cycles.begin());
+    const auto missing = capture.missing_cycles(from);
+    const auto doubled = capture.doubled_cycles();
+    INFO("missing " << missing.size() << ", doubled " << doubled.size());
+    CHECK(missing.empty());
+    CHECK(doubled.empty());
+    double longest = 0;
+    for (const auto& h : capture.handovers()) longest = std::max(longest, h.gap_us);
+    WARN("longest process data gap at a switchover: " << longest / 1000.0 << " ms");
+}
+
+TEST_CASE("a master that comes back after a failure comes back INACTIVE and never preempts", "[netns][failover]") {
+    SupervisedPair pair;
+    auto& active = pair.settled();
+    const bool m1_failed = &active == &*pair.m1;
+    active.signal(SIGKILL);
+    pair.pull_cables_of(active);
+    auto& survivor = pair.other(active);
+    REQUIRE(survivor.wait_for([](const StatusReply& s) { return is_active(s) && all_slaves_op(s); }, 10s));
+    const auto takeovers = survivor.status().supervisor().takeovers();
+
+    pair.plug_cables_of(active);
+    if (m1_failed) {
+        pair.restart(pair.m1, "m1", pair.topology.m1());
+    } else {
+        pair.restart(pair.m2, "m2", pair.topology.m2());
+    }
+    auto& back = m1_failed ? *pair.m1 : *pair.m2;
+    REQUIRE(back.wait_for(hot_standby, 10s));
+    std::this_thread::sleep_for(2s);
+    CHECK(is_active(survivor.status()));
+    CHECK_FALSE(is_active(back.status()));
+    CHECK(survivor.status().supervisor().takeovers() == takeovers);
+    CHECK(back.status().supervisor().takeovers() == 0);
+}
+
+TEST_CASE("a member forced to standby does not take over when the ACTIVE fails, and says nobody is ACTIVE",
+          "[netns][failover]") {
+    SupervisedPair pair;
+    auto& active = pair.settled();
+    auto& standby = pair.other(active);
+    REQUIRE(standby.force_standby(true).empty());
+    REQUIRE(standby.wait_for([](const StatusReply& s) { return s.supervisor().forced_standby(); }, 2s));
+    // The ACTIVE learns it from the standby status in its next returned CMF.
+    REQUIRE(active.wait_for([](const StatusReply& s) { return s.supervisor().partner_standby() == "forced"; }, 2s));
+    const auto refused = active.switchover();
+    CHECK(refused.find("forced to standby") != std::string::npos);
+
+    active.signal(SIGKILL);
+    pair.pull_cables_of(active);
+    const auto nobody = standby.wait_for([](const StatusReply& s) { return !s.supervisor().no_active().empty(); }, 5s);
+    REQUIRE(nobody);
+    CHECK_FALSE(is_active(*nobody));
+    CHECK(nobody->supervisor().no_active().find("forced to standby") != std::string::npos);
+    std::this_thread::sleep_for(500ms);
+    CHECK_FALSE(is_active(standby.status()));
+
+    REQUIRE(standby.force_standby(false).empty());
+    CHECK(standby.wait_for(is_active, 5s));
+}

@@ -1,0 +1,548 @@
+// Every decision path of the Supervisor, cycle by cycle in virtual time (no
+// sleeps): start-up, the communication timeout and what may stop a takeover,
+// link loss, isolation, partner lost / found, frames not returning,
+// collisions, the hand-off on both sides, force standby, operator requests.
+
+#include <catch2/catch.hpp>
+
+#include <memory>
+
+#include "supervisor_harness.hpp"
+
+using namespace ecpair;
+using namespace std::chrono_literals;
+using ecpair::master::EventKind;
+using ecpair::supervisor::SupervisorState;
+using ecpair::test::SupervisorHarness;
+using RedState = ecpair::redundancy::RedState;
+
+namespace {
+
+// A member that heard its partner at start-up and stands by, mirroring it.
+std::unique_ptr<SupervisorHarness> standing_by(
+    supervisor::SupervisorOptions options = SupervisorHarness::default_options()) {
+    auto owner = std::make_unique<SupervisorHarness>(options);
+    auto& h = *owner;
+    h.cycle();  // starts listening
+    h.partner_cmf();
+    h.cycle();
+    REQUIRE(h.state() == SupervisorState::Standby);
+    return owner;
+}
+
+// A member that took the bus at start-up and has a hot standby partner.
+std::unique_ptr<SupervisorHarness> active_with_partner() {
+    auto options = SupervisorHarness::default_options();
+    options.start_active = true;
+    auto owner = std::make_unique<SupervisorHarness>(options);
+    auto& h = *owner;
+    h.partner_answer();
+    h.cycle();
+    REQUIRE(h.active());
+    REQUIRE(h.state() == SupervisorState::Active);
+    return owner;
+}
+
+}  // namespace
+
+// ---- start-up
+
+TEST_CASE("a member that hears no ACTIVE while listening takes the bus", "[supervisor]") {
+    SupervisorHarness h;
+    h.cycle();
+    CHECK(h.state() == SupervisorState::Listening);
+    CHECK_FALSE(h.active());
+    const int took = h.until([&] { return h.active(); });
+    CHECK(took >= 200);  // listen_time 200 ms + jitter (half of 10 ms)
+    CHECK(took <= 206);
+    CHECK(h.state() == SupervisorState::Active);
+    CHECK(h.last.epoch == 1);
+    REQUIRE(h.find(EventKind::ArbitrationSettled));
+    CHECK(h.find(EventKind::ArbitrationSettled)->a ==
+          static_cast<std::uint32_t>(master::ArbitrationOutcome::TookBusAfterListening));
+}
+
+TEST_CASE("a member that hears an ACTIVE while listening stands by and never preempts it", "[supervisor]") {
+    SupervisorHarness h;
+    h.cycle();
+    h.cycles(30);
+    for (int i = 0; i < 2000; ++i) {
+        h.partner_cmf(true, 7);
+        h.cycle();
+        REQUIRE_FALSE(h.active());
+    }
+    CHECK(h.state() == SupervisorState::Standby);
+    CHECK(h.supervisor.status().epoch == 7);  // the newest epoch heard
+    CHECK(h.last.ready_for_handoff);          // a hot standby
+}
+
+TEST_CASE("a member started in forced standby never takes the bus until released", "[supervisor]") {
+    auto options = SupervisorHarness::default_options();
+    options.start_in_forced_standby = true;
+    SupervisorHarness h(options);
+    h.cycles(1000);
+    CHECK_FALSE(h.active());
+    CHECK(h.state() == SupervisorState::NoActive);
+    CHECK(h.supervisor.status().no_active == master::NoActiveReason::ForcedStandby);
+    CHECK(h.last.forced_standby);
+    CHECK(h.raised(EventKind::StandbyForced));
+
+    h.supervisor.force_standby(false);
+    h.cycle();
+    CHECK(h.state() == SupervisorState::Listening);
+    CHECK(h.until([&] { return h.active(); }) > 0);
+}
+
+// ---- the communication timeout
+
+TEST_CASE("a standby whose ACTIVE falls silent takes over hot after the comm timeout", "[supervisor]") {
+    auto owner = standing_by();
+    auto& h = *owner;
+    for (int i = 0; i < 100; ++i) {
+        h.partner_cmf();
+        h.cycle();
+    }
+    const int took = h.until([&] { return h.active(); });
+    CHECK(took >= 50);
+    CHECK(took <= 51);
+    CHECK(h.state() == SupervisorState::Active);
+    const auto* timeout = h.find(EventKind::CommTimeout);
+    REQUIRE(timeout);
+    CHECK(timeout->a >= 50);
+    CHECK(timeout->b == 50);
+    CHECK(timeout->c == static_cast<std::uint32_t>(master::SilenceAction::TakingOverHot));
+    CHECK(timeout->d == 0);
+    CHECK(h.supervisor.status().counters.comm_timeouts == 1);
+}
+
+TEST_CASE("without a fresh mirror the takeover after a comm timeout is cold", "[supervisor]") {
+    auto owner = standing_by();
+    auto& h = *owner;
+    h.seen.mirror_fresh = false;
+    h.until([&] { return h.active(); });
+    const auto* timeout = h.find(EventKind::CommTimeout);
+    REQUIRE(timeout);
+    CHECK(timeout->c == static_cast<std::uint32_t>(master::SilenceAction::TakingOverCold));
+}
+
+TEST_CASE("a stall of this machine does not count as the partner's silence", "[supervisor]") {
+    auto owner = standing_by();
+    auto& h = *owner;
+    // 200 ms in which this member itself did not run (a VM pause): it counts as two cycles.
+    h.cycle(200ms);
+    CHECK_FALSE(h.active());
+    CHECK(h.supervisor.status().silence <= 3ms);
+    h.partner_cmf();  // the partner resumes too
+    h.cycle();
+    h.cycles(30);
+    CHECK_FALSE(h.active());
+}
+
+TEST_CASE("a link of ours going down shortens the wait when no CMF arrives on the other", "[supervisor]") {
+    auto owner = standing_by();
+    auto& h = *owner;
+    h.seen.main_link_up = false;  // the dead partner's link guard took its links down
+    const int took = h.until([&] { return h.active(); });
+    CHECK(took >= 3);
+    CHECK(took <= 4);
+    const auto* timeout = h.find(EventKind::CommTimeout);
+    REQUIRE(timeout);
+    CHECK(timeout->d == 1);
+}
+
+TEST_CASE("a pulled master-master cable takes a link down but the CMF still arrives: no takeover",
+          "[supervisor]") {
+    auto owner = standing_by();
+    auto& h = *owner;
+    h.seen.main_link_up = false;
+    for (int i = 0; i < 500; ++i) {
+        h.partner_cmf();  // through the slaves, on RED
+        h.cycle();
+        REQUIRE_FALSE(h.active());
+    }
+    CHECK_FALSE(h.raised(EventKind::CommTimeout));
+}
+
+TEST_CASE("a forced standby reports its silent partner but does not take over", "[supervisor]") {
+    auto owner = standing_by();
+    auto& h = *owner;
+    h.supervisor.force_standby(true);
+    h.cycles(200);
+    CHECK_FALSE(h.active());
+    const auto* timeout = h.find(EventKind::CommTimeout);
+    REQUIRE(timeout);
+    CHECK(timeout->c == static_cast<std::uint32_t>(master::SilenceAction::RefusedForced));
+    CHECK(h.state() == SupervisorState::NoActive);
+    CHECK(h.raised(EventKind::NoActiveMaster));
+}
+
+TEST_CASE("a partner that runs another ENI is not taken over from, unless configured", "[supervisor]") {
+    SECTION("default: no takeover") {
+        SupervisorHarness h;
+        h.cycle();
+        h.partner_cmf(false);
+        h.cycle();
+        REQUIRE(h.state() == SupervisorState::Standby);
+        h.cycles(300);
+        CHECK_FALSE(h.active());
+        REQUIRE(h.find(EventKind::CommTimeout));
+        CHECK(h.find(EventKind::CommTimeout)->c ==
+              static_cast<std::uint32_t>(master::SilenceAction::RefusedPartnerDiffers));
+        CHECK(h.supervisor.status().no_active == master::NoActiveReason::PartnerDiffers);
+    }
+    SECTION("takeover_from_differing_partner") {
+        auto options = SupervisorHarness::default_options();
+        options.takeover_from_differing_partner = true;
+        SupervisorHarness h(options);
+        h.cycle();
+        h.partner_cmf(false);
+        h.cycle();
+        h.seen.mirror_fresh = false;
+        CHECK(h.until([&] { return h.active(); }, 300) > 0);
+    }
+}
+
+// ---- links
+
+TEST_CASE("an INACTIVE with both links down is isolated and never takes over", "[supervisor]") {
+    auto owner = standing_by();
+    auto& h = *owner;
+    h.seen.main_link_up = false;
+    h.seen.red_link_up = false;
+    h.cycles(500);
+    CHECK_FALSE(h.active());
+    CHECK(h.state() == SupervisorState::Isolated);
+    CHECK(h.supervisor.status().no_active == master::NoActiveReason::Isolated);
+    REQUIRE(h.find(EventKind::AllLinksLost));
+    CHECK(h.find(EventKind::AllLinksLost)->a == 0);
+
+    h.seen.red_link_up = true;  // a link back: listen again
+    h.cycle();
+    CHECK(h.raised(EventKind::LinksRestored));
+    CHECK(h.state() == SupervisorState::Listening);
+}
+
+TEST_CASE("an ACTIVE that loses both links becomes INACTIVE", "[supervisor]") {
+    auto owner = active_with_partner();
+    auto& h = *owner;
+    h.seen.main_link_up = false;
+    h.seen.red_link_up = false;
+    h.cycle();
+    CHECK_FALSE(h.active());
+    CHECK(h.state() == SupervisorState::Isolated);
+    REQUIRE(h.find(EventKind::AllLinksLost));
+    CHECK(h.find(EventKind::AllLinksLost)->a == 1);
+}
+
+// ---- the ACTIVE watches its partner and its frames
+
+TEST_CASE("the ACTIVE reports its partner lost with the age of the last answer, and found again",
+          "[supervisor]") {
+    auto owner = active_with_partner();
+    auto& h = *owner;
+    CHECK(h.raised(EventKind::PartnerFound));
+    h.cycles(150);
+    const auto* lost = h.find(EventKind::PartnerLost);
+    REQUIRE(lost);
+    CHECK(lost->a >= 100);
+    CHECK(lost->a <= 102);
+    CHECK(h.active());  // still ACTIVE
+
+    h.got.clear();
+    h.partner_answer();
+    h.cycle();
+    const auto* found = h.find(EventKind::PartnerFound);
+    REQUIRE(found);
+    CHECK(found->a >= 100);  // silent for about 150 ms
+}
+
+TEST_CASE("frames that do not come back are reported once, and their return too", "[supervisor]") {
+    auto owner = active_with_partner();
+    auto& h = *owner;
+    h.seen.cycles_without_return = 19;
+    h.cycle();
+    CHECK_FALSE(h.raised(EventKind::FramesNotReturning));
+    h.seen.cycles_without_return = 20;
+    h.cycle();
+    h.seen.cycles_without_return = 21;
+    h.cycle();
+    CHECK(std::count_if(h.got.begin(), h.got.end(),
+                        [](const auto& e) { return e.kind == EventKind::FramesNotReturning; }) == 1);
+    CHECK(h.active());  // keeps trying
+    h.seen.cycles_without_return = 0;
+    h.cycle();
+    CHECK(h.raised(EventKind::FramesReturning));
+}
+
+TEST_CASE("after a takeover from a silent partner, frames not returning name its links as the likely cause",
+          "[supervisor]") {
+    auto owner = standing_by();
+    auto& h = *owner;
+    h.until([&] { return h.active(); });
+    h.seen.cycles_without_return = 20;
+    h.cycle();
+    const auto* e = h.find(EventKind::FramesNotReturning);
+    REQUIRE(e);
+    CHECK(e->b == 1);
+    CHECK(master::describe(*e).find("failed partner's links are still up") != std::string::npos);
+}
+
+// ---- collisions
+
+TEST_CASE("another master's frames in three cycles running are a collision: stop, back off, retake in silence",
+          "[supervisor]") {
+    auto owner = active_with_partner();
+    auto& h = *owner;
+    h.foreign_frames();
+    h.cycle();
+    h.foreign_frames();
+    h.cycle();
+    CHECK(h.active());  // two cycles: a straggler, not yet a collision
+    h.foreign_frames();
+    h.cycle();
+    CHECK_FALSE(h.active());
+    CHECK(h.state() == SupervisorState::BackingOff);
+    const auto* collision = h.find(EventKind::Collision);
+    REQUIRE(collision);
+    CHECK(collision->a == 1);
+    // settle 5 cycles + a random draw in 1..10 ms (0.5 -> 5.5 ms).
+    CHECK(collision->b == 10500);
+    const int took = h.until([&] { return h.active(); });
+    CHECK(took >= 10);
+    CHECK(took <= 11);
+    CHECK(h.last.epoch == 2);
+    CHECK(h.supervisor.status().counters.backoffs_won == 1);
+}
+
+TEST_CASE("a master heard while backing off took the bus back: yield and stand by", "[supervisor]") {
+    auto owner = active_with_partner();
+    auto& h = *owner;
+    for (int i = 0; i < 3; ++i) {
+        h.foreign_frames();
+        h.cycle();
+    }
+    REQUIRE(h.state() == SupervisorState::BackingOff);
+    h.cycles(6);  // past the settle time
+    h.partner_cmf(true, 2);
+    h.cycle();
+    CHECK_FALSE(h.active());
+    CHECK(h.state() == SupervisorState::Standby);
+    CHECK(h.supervisor.status().counters.backoffs_lost == 1);
+}
+
+TEST_CASE("after a double line break the half that reaches fewer slaves defers to the bigger one",
+          "[supervisor]") {
+    auto owner = active_with_partner();
+    auto& h = *owner;
+    h.seen.slaves_reached = 2;  // our half
+    h.partner_reach = 3;        // the other ACTIVE's half
+    for (int i = 0; i < 3; ++i) {
+        h.partner_cmf(true, 2);  // its CMF arrives among its foreign frames
+        h.foreign_frames();
+        h.cycle();
+    }
+    const auto* collision = h.find(EventKind::Collision);
+    REQUIRE(collision);
+    CHECK(collision->c == static_cast<std::uint32_t>(master::BackoffCode::Deferring));
+    CHECK(collision->d == static_cast<std::uint32_t>(master::RuleCode::SlavesReached));
+    CHECK(master::describe(*collision).find("reaches more slaves") != std::string::npos);
+}
+
+// ---- switchover, ACTIVE side
+
+TEST_CASE("a switchover hands the bus over at the announced cycle once the partner acknowledges",
+          "[supervisor]") {
+    auto owner = active_with_partner();
+    auto& h = *owner;
+    REQUIRE(h.supervisor.switchover());
+    h.partner_answer();
+    h.cycle();
+    REQUIRE(h.last.handoff_cycle);
+    const auto at = *h.last.handoff_cycle;
+    CHECK(at == h.seen.cycle + 4);
+    CHECK(h.state() == SupervisorState::HandingOver);
+    h.partner_answer(true, false, true);  // acknowledged in the returned CMF
+    h.cycle();
+    CHECK(h.active());
+    while (h.seen.cycle + 1 < at) {
+        h.partner_answer(true, false, true);
+        h.cycle();
+        CHECK(h.active());
+        CHECK(h.last.handoff_cycle == at);  // still announced in the last cycle, H-1
+    }
+    h.partner_answer(true, false, true);
+    h.cycle();  // cycle H
+    CHECK(h.seen.cycle == at);
+    CHECK_FALSE(h.active());
+    CHECK(h.state() == SupervisorState::Standby);
+    CHECK(h.supervisor.status().counters.handoffs == 1);
+}
+
+TEST_CASE("a switchover the partner does not acknowledge is withdrawn in the last cycle", "[supervisor]") {
+    auto owner = active_with_partner();
+    auto& h = *owner;
+    REQUIRE(h.supervisor.switchover());
+    h.partner_answer();
+    h.cycle();
+    const auto at = *h.last.handoff_cycle;
+    while (h.seen.cycle + 1 < at) {
+        h.partner_answer();
+        h.cycle();
+    }
+    CHECK_FALSE(h.last.handoff_cycle);  // withdrawn in H-1's CMF
+    CHECK(h.active());
+    CHECK(h.state() == SupervisorState::Active);
+    REQUIRE(h.find(EventKind::HandOff));
+    CHECK(h.got.back().kind == EventKind::HandOff);
+    CHECK(h.got.back().a == static_cast<std::uint32_t>(master::HandOffPhase::Cancelled));
+    h.cycles(10);
+    CHECK(h.active());
+}
+
+TEST_CASE("a switchover onto a partner that is no hot standby is refused with the reason", "[supervisor]") {
+    auto owner = active_with_partner();
+    auto& h = *owner;
+    SECTION("cold") {
+        h.partner_answer(false);
+        h.cycle();
+        const auto refused = h.supervisor.switchover();
+        REQUIRE_FALSE(refused);
+        CHECK(refused.error().find("no hot standby") != std::string::npos);
+    }
+    SECTION("forced") {
+        h.partner_answer(true, true);
+        h.cycle();
+        const auto refused = h.supervisor.switchover();
+        REQUIRE_FALSE(refused);
+        CHECK(refused.error().find("forced to standby") != std::string::npos);
+    }
+    SECTION("silent") {
+        h.cycles(150);
+        const auto refused = h.supervisor.switchover();
+        REQUIRE_FALSE(refused);
+        CHECK(refused.error().find("does not answer") != std::string::npos);
+    }
+    SECTION("a link of the partner down") {
+        h.partner_answer();
+        h.seen.partner_status->red_link_up = false;
+        h.cycle();
+        const auto refused = h.supervisor.switchover();
+        REQUIRE_FALSE(refused);
+        CHECK(refused.error().find("link") != std::string::npos);
+    }
+    CHECK(h.active());
+}
+
+TEST_CASE("the partner asking for a switchover in its standby status starts one", "[supervisor]") {
+    auto owner = active_with_partner();
+    auto& h = *owner;
+    h.partner_answer();
+    h.seen.partner_status->switchover_requested = true;
+    h.cycle();
+    CHECK(h.state() == SupervisorState::HandingOver);
+}
+
+TEST_CASE("forcing the ACTIVE to standby hands over to a hot partner, else steps down", "[supervisor]") {
+    auto owner = active_with_partner();
+    auto& h = *owner;
+    SECTION("hot partner: a hand-off") {
+        h.supervisor.force_standby(true);
+        h.partner_answer();
+        h.cycle();
+        CHECK(h.state() == SupervisorState::HandingOver);
+    }
+    SECTION("partner forced too: step down, nobody is ACTIVE, and the status says so") {
+        h.partner_answer(true, true);
+        h.cycle();
+        h.supervisor.force_standby(true);
+        h.partner_answer(true, true);
+        h.cycle();
+        CHECK_FALSE(h.active());
+        CHECK(h.state() == SupervisorState::NoActive);
+        CHECK(h.supervisor.status().no_active == master::NoActiveReason::ForcedStandby);
+        h.cycles(500);
+        CHECK_FALSE(h.active());
+    }
+}
+
+// ---- switchover, INACTIVE side
+
+TEST_CASE("a standby acknowledges an announced hand-off and takes over at its cycle", "[supervisor]") {
+    auto owner = standing_by();
+    auto& h = *owner;
+    h.partner_cmf();
+    h.cycle();
+    CHECK(h.last.ready_for_handoff);
+    const std::uint64_t at = h.seen.cycle + 4;
+    h.announced_handoff = at;
+    h.partner_cmf();  // announces; the controller acknowledges
+    h.cycle();
+    CHECK(h.state() == SupervisorState::HandOffPending);
+    while (!h.active() && h.seen.cycle < at + 5) {
+        h.partner_cmf();
+        h.cycle();
+    }
+    CHECK(h.active());
+    CHECK(h.seen.cycle == at);  // at the boundary of cycle H, where H-1 was mirrored
+    REQUIRE(h.find(EventKind::HandOff));
+    CHECK(h.got.back().kind == EventKind::HandOff);
+    CHECK(h.got.back().a == static_cast<std::uint32_t>(master::HandOffPhase::TakenOver));
+    CHECK(h.supervisor.status().counters.handoffs == 1);
+}
+
+TEST_CASE("a standby whose ACTIVE withdraws the hand-off stays INACTIVE", "[supervisor]") {
+    auto owner = standing_by();
+    auto& h = *owner;
+    h.announced_handoff = h.seen.cycle + 4;
+    h.partner_cmf();
+    h.cycle();
+    REQUIRE(h.state() == SupervisorState::HandOffPending);
+    h.announced_handoff.reset();
+    h.partner_cmf();
+    h.cycle();
+    CHECK(h.state() == SupervisorState::Standby);
+    h.cycles(3);
+    for (int i = 0; i < 20; ++i) {
+        h.partner_cmf();
+        h.cycle();
+    }
+    CHECK_FALSE(h.active());
+}
+
+TEST_CASE("a forced standby does not acknowledge a hand-off", "[supervisor]") {
+    auto owner = standing_by();
+    auto& h = *owner;
+    h.supervisor.force_standby(true);
+    h.partner_cmf();
+    h.cycle();
+    CHECK_FALSE(h.last.ready_for_handoff);
+    CHECK(h.last.forced_standby);
+    const auto refused = h.supervisor.switchover();
+    REQUIRE_FALSE(refused);
+}
+
+TEST_CASE("a switchover asked at the standby is passed to the ACTIVE in the standby status", "[supervisor]") {
+    auto owner = standing_by();
+    auto& h = *owner;
+    h.partner_cmf();
+    h.cycle();
+    REQUIRE(h.supervisor.switchover());
+    h.partner_cmf();
+    h.cycle();
+    CHECK(h.last.switchover_requested);
+}
+
+// ---- operator override
+
+TEST_CASE("the operator can make a standby ACTIVE and an ACTIVE step down", "[supervisor]") {
+    auto owner = standing_by();
+    auto& h = *owner;
+    h.supervisor.request_role(RedState::Active);
+    h.partner_cmf();
+    h.cycle();
+    CHECK(h.active());
+    h.supervisor.request_role(RedState::Inactive);
+    h.cycle();
+    CHECK_FALSE(h.active());
+    CHECK(h.state() == SupervisorState::Standby);
+}
