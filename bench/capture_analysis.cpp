@@ -6,24 +6,24 @@
 //       the same source MAC bytes 1-5 (frame id, NIC bytes) and length that
 //       arrived last before it; prints p50/p99/max of OUT - IN in µs.
 //       (Byte 0 may differ: the forwarding bits.)
-//   gaps SEGMENT.pcap
-//       Takeover gaps from ecsim's --pcap: the MAIN copies (redundancy bit
-//       clear) of frames carrying process data (LRD/LWR/LRW), grouped by the
-//       MAIN adapter that sent them (source MAC bytes 3-5), so one master is
-//       one group; every change of group is a takeover and its gap the time
-//       from the last frame of the old master to the first of the new one.
+//   gaps SEGMENT.pcap [CYCLE_US]
+//       The timeline of takeovers from ecsim's --pcap (SegmentCapture): every
+//       change of the master whose process data reached the slaves, with the
+//       time the slaves went without process data (in ms and, with the cycle
+//       time, in cycles), and the cycles the masters' CMFs numbered that no
+//       master or two masters sent.
 
 #include <pcap/pcap.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <array>
 #include <cstdio>
 #include <map>
 #include <string>
 #include <vector>
 
-#include "ecpair/wire/frame.hpp"
-#include "ecpair/wire/source_mac.hpp"
+#include "segment_capture.hpp"
 
 namespace {
 
@@ -84,38 +84,30 @@ int delay(const std::string& in_file, const std::string& out_file) {
     return delays.empty() ? 1 : 0;
 }
 
-bool carries_process_data(const Frame& f) {
-    auto view = wire::ConstFrameView::parse(f.bytes);
-    if (!view) return false;
-    return std::any_of(view->begin(), view->end(), [](const auto& d) {
-        return d.command() == wire::Command::Lrd || d.command() == wire::Command::Lwr || d.command() == wire::Command::Lrw;
-    });
-}
-
-int gaps(const std::string& file) {
-    const auto frames = read(file);
-    std::uint32_t master = 0;
-    double last = 0;
-    int takeovers = 0;
+int gaps(const std::string& file, double cycle_us) {
+    const auto capture = ecpair::test::read_segment_capture(file);
+    if (!capture) {
+        std::fprintf(stderr, "%s\n", capture.error().c_str());
+        return 2;
+    }
+    const auto handovers = capture->handovers();
     std::vector<double> all;
-    for (const auto& f : frames) {
-        if (f.bytes.size() < 12 || (f.bytes[6] & wire::SourceMac::kRedundancyBit) != 0 || !carries_process_data(f)) {
-            continue;
-        }
-        // The NIC bytes say which master sent it; ESCs only change byte 0.
-        const std::uint32_t nic = (std::uint32_t{f.bytes[9]} << 16) | (std::uint32_t{f.bytes[10]} << 8) | f.bytes[11];
-        if (master != 0 && nic != master && f.time_us - last > 0) {
-            ++takeovers;
-            all.push_back(f.time_us - last);
-            std::printf("takeover %d: %.0f us without process data\n", takeovers, f.time_us - last);
-        }
-        master = nic;
-        last = f.time_us;
+    const double first = capture->first_us();
+    for (std::size_t i = 0; i < handovers.size(); ++i) {
+        const auto& h = handovers[i];
+        all.push_back(h.gap_us);
+        std::printf("takeover %zu at %.3f s: %06x -> %06x, %.2f ms without process data", i + 1,
+                    (h.at_us - first) / 1e6, h.from, h.to, h.gap_us / 1000.0);
+        if (cycle_us > 0) std::printf(" (%.1f cycles)", h.gap_us / cycle_us);
+        std::printf("\n");
     }
     if (!all.empty()) {
-        std::printf("takeovers: %d, gap min %.0f us, p50 %.0f us, max %.0f us\n", takeovers,
-                    *std::min_element(all.begin(), all.end()), percentile(all, 50), *std::max_element(all.begin(), all.end()));
+        std::printf("takeovers: %zu, gap min %.2f ms, p50 %.2f ms, max %.2f ms\n", all.size(),
+                    *std::min_element(all.begin(), all.end()) / 1000.0, percentile(all, 50) / 1000.0,
+                    *std::max_element(all.begin(), all.end()) / 1000.0);
     }
+    std::printf("cycles no master numbered: %zu; cycles two masters numbered: %zu\n", capture->missing_cycles().size(),
+                capture->doubled_cycles().size());
     return 0;
 }
 
@@ -124,7 +116,7 @@ int gaps(const std::string& file) {
 int main(int argc, char** argv) {
     const std::string mode = argc > 1 ? argv[1] : "";
     if (mode == "delay" && argc == 4) return delay(argv[2], argv[3]);
-    if (mode == "gaps" && argc == 3) return gaps(argv[2]);
-    std::fprintf(stderr, "usage: %s delay IN.pcap OUT.pcap | gaps SEGMENT.pcap\n", argv[0]);
+    if (mode == "gaps" && (argc == 3 || argc == 4)) return gaps(argv[2], argc == 4 ? std::atof(argv[3]) : 0.0);
+    std::fprintf(stderr, "usage: %s delay IN.pcap OUT.pcap | gaps SEGMENT.pcap [CYCLE_US]\n", argv[0]);
     return 2;
 }

@@ -1,6 +1,7 @@
 # Installation where Debian expects it, and a .deb made by CPack from it:
 #
-#   /usr/bin                 ecpaird, ecpairctl, ecsim, ecsim-make-eni
+#   /usr/bin                 ecpaird, ecpair-linkguard (ecpaird starts the one next to it),
+#                            ecpairctl, ecsim, ecsim-make-eni
 #   /etc/ecpair              the example pair configuration (conffiles)
 #   /lib/systemd/system      ecpaird@.service (its ExecStart points at /usr/bin)
 #   /usr/share/doc/ecpair    README.md and docs/
@@ -20,10 +21,10 @@ include(GNUInstallDirs)
 set(ECPAIR_CONFIG_DIR "/etc/ecpair" CACHE PATH "Where the example configuration goes")
 set(ECPAIR_SYSTEMD_UNIT_DIR "/lib/systemd/system" CACHE PATH "Where the systemd unit goes (Debian 12: /lib/systemd/system)")
 
-install(TARGETS ecpaird ecpairctl ecsim ecsim-make-eni RUNTIME DESTINATION "${CMAKE_INSTALL_BINDIR}")
+install(TARGETS ecpaird ecpair-linkguard ecpairctl ecsim ecsim-make-eni RUNTIME DESTINATION "${CMAKE_INSTALL_BINDIR}")
 
 set(_ecpair_conffiles "")
-foreach(_config m1.textproto m2.textproto)
+foreach(_config controller-a.textproto controller-b.textproto)
   install(FILES "deploy/config/${_config}" DESTINATION "${ECPAIR_CONFIG_DIR}")
   string(APPEND _ecpair_conffiles "${ECPAIR_CONFIG_DIR}/${_config}\n")
 endforeach()

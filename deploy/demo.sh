@@ -5,7 +5,8 @@
 #   1. ecsim: the slave chain of a real ENI (TwinCAT, 5 slaves)
 #   2. ecpairctl scan: the bus as an operator sees it, compared with the ENI
 #   3. the pair: m1 ACTIVE drives the slaves to OP, m2 INACTIVE forwards every
-#      frame and mirrors m1's image; `ecpairctl compare` checks both images agree
+#      frame and mirrors m1's image; `ecpairctl compare` checks both images agree;
+#      the masters ping each other over the TAP bridge (IP in EtherCAT frames)
 #   4. a cable breaks between two slaves: the ring survives, m2 keeps mirroring
 #   5. a planned switchover by API: m2 takes over hot, the slaves stay in OP
 #   6. a failover: m2's controller dies (killed, its cables dark) and m1
@@ -17,6 +18,7 @@ cd "$(dirname "$0")/.."
 repo=$(pwd)
 source deploy/lib/topology.sh
 source deploy/lib/pair_member.sh
+source deploy/lib/tap_bridge.sh
 
 eni=${ECPAIR_DEMO_ENI:-$repo/tests/data/eni/twincat_kpierczy_5slaves.xml}
 bin=${ECPAIR_BUILD_DIR:-$repo/build}
@@ -71,7 +73,8 @@ wait_for_carrier "$prefix-m2" m2-red
 
 step "3. The pair: m1 starts ACTIVE, m2 INACTIVE (same ENI, cable redundancy, LRW split)"
 member() {  # name initial-state
-  pair_member_config "$1" "$2" "$eni" "$work" "demo { kind: LOOPBACK_CHECK step_cycles: 50 }" >"$work/$1.textproto"
+  pair_member_config "$1" "$2" "$eni" "$work" "demo { kind: LOOPBACK_CHECK step_cycles: 50 }" \
+    "$(tap_bridge_config "$1")" >"$work/$1.textproto"
   ip netns exec "$prefix-$1" "$ecpaird" --config "$work/$1.textproto" >"$work/$1.log" 2>&1 &
 }
 member m1 ACTIVE; m1=$!
@@ -87,6 +90,7 @@ status m1 8
 status m2 13
 note "(master PD: m1 sends its cycle counter, m2 echoes it back)"
 ctl compare m1 --socket "$work/m2.sock" | sed 's/^/   /'
+tap_bridge_demo "$prefix" "$work" "$ecpairctl"
 
 step "4. A cable breaks between slave 2 and slave 3 while in OP"
 sim break 2 | sed 's/^/   /'

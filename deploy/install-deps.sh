@@ -6,10 +6,10 @@ set -euo pipefail
 packages=(
   build-essential cmake pkg-config git
   libboost-dev libboost-program-options-dev
-  libpcap-dev libtinyxml2-dev libspdlog-dev libfmt-dev
+  libpcap-dev libtinyxml2-dev libspdlog-dev libfmt-dev libsystemd-dev
   catch2 libprotobuf-dev protobuf-compiler
   libbenchmark-dev
-  iproute2 tshark procps
+  iproute2 tshark procps iputils-ping
 )
 
 if [ "$(id -u)" -ne 0 ]; then

@@ -23,6 +23,7 @@
 #include "ecpair/redundancy/cmf_format.hpp"
 #include "ecpair/redundancy/cmf_inactive.hpp"
 #include "ecpair/wire/frame.hpp"
+#include "channel_sender.hpp"
 #include "mailbox_counter_mirror.hpp"
 #include "mirror.hpp"
 
@@ -89,6 +90,7 @@ RedundancyController::RedundancyController(master::Master& master, const Redunda
     // notes the header (the partner's cycle, a hand-off it announces), then
     // fills in its master PD and its standby status.
     forwarding_.set_hook([this](master::LinkRole arrived_on, wire::FrameView& frame, bool first_pass) {
+        if (channel_) channel_->process(arrived_on, frame, first_pass);
         if (!first_pass) return;
         if (const auto view = wire::ConstFrameView::parse(ConstBytes(frame.bytes()))) {
             note_header(*view, arrival_[index(arrived_on)]);
@@ -99,6 +101,7 @@ RedundancyController::RedundancyController(master::Master& master, const Redunda
         process_as_inactive(frame, pd_in_to_send_, status);
     });
     forwarding_.set_stored_callback([this](master::LinkRole arrived_on, ConstBytes frame, bool first_pass) {
+        if (channel_) channel_->forwarded(arrived_on, frame, first_pass);
         if (!first_pass) return;
         mirror_->on_first_pass(arrived_on, frame);
         if (const auto view = wire::ConstFrameView::parse(frame)) mailbox_counters_->observe(*view);
@@ -117,6 +120,11 @@ RedundancyController::RedundancyController(master::Master& master, const Redunda
 
 RedundancyController::~RedundancyController() = default;
 
+void RedundancyController::set_acyclic_channel(AcyclicMasterRedChannel* channel) {
+    channel_ = channel;
+    if (channel_) channel_->role_changed(state_.load() == RedState::Active);
+}
+
 void RedundancyController::request(RedState state) {
     if (requested_.exchange(state) != state) log()->info("{} requested", to_string(state));
 }
@@ -131,6 +139,7 @@ void RedundancyController::set_master_pd_in(ConstBytes data) {
 void RedundancyController::on_frame(master::LinkRole arrived_on, ConstBytes frame, link::Clock::time_point received_at) {
     if (state_.load(std::memory_order_acquire) == RedState::Active) {
         master_.on_frame(arrived_on, frame, received_at);
+        if (channel_) channel_->returned(arrived_on, frame);
     } else {
         arrival_[index(arrived_on)] = received_at;  // for the hook, on this same thread
         forwarding_.on_frame(arrived_on, frame);
@@ -209,6 +218,7 @@ std::optional<link::Clock::time_point> RedundancyController::phase_reference() c
 
 void RedundancyController::apply_mirror(master::ProcessImage& image) {
     if (!mirror_->take_newer(*mirrored_)) return;
+    left_bus_.reset();  // another master drives the bus now: its mirror is what counts
     const auto& p = options_.parameters;
     if (p.update_slave_pd_in) {
         std::copy_n(mirrored_->inputs.begin(), std::min(mirrored_->inputs.size(), image.inputs().size()),
@@ -227,8 +237,17 @@ void RedundancyController::change_role(RedState to, master::ProcessImage& image)
     RoleChange change{from, to, false, master_.state()};
     if (to == RedState::Active) {
         apply_mirror(image);  // the newest the partner sent, if any
-        change.hot = mirror_fresh();
-        change.master_state = change.hot ? mirrored_->master_state : eni::SlaveState::Init;
+        const bool from_mirror = mirror_fresh();
+        // Back on the bus shortly after leaving it (a collision's backoff),
+        // with nobody mirrored since: the slaves are still where this master
+        // left them, and so is its image.
+        const bool own = !from_mirror && left_bus_ &&
+                         std::chrono::steady_clock::now() - left_bus_->at <= options_.mirror_fresh;
+        change.hot = from_mirror || own;
+        change.master_state = from_mirror ? mirrored_->master_state
+                              : own       ? left_bus_->master_state
+                                          : eni::SlaveState::Init;
+        left_bus_.reset();
         // Hot: keep the slaves where the partner had them and send the mirrored
         // outputs in this very cycle. Cold: start over from INIT.
         master_.request_state(change.master_state);
@@ -238,11 +257,15 @@ void RedundancyController::change_role(RedState to, master::ProcessImage& image)
         partner_last_answer_.reset();
         partner_status_.reset();
         state_.store(RedState::Active, std::memory_order_release);
-        log()->warn("now ACTIVE: {} takeover in {} (mirrored cycle {})", change.hot ? "hot" : "cold",
-                    eni::to_string(change.master_state), mirrored_->cycle);
+        log()->warn("now ACTIVE: {} takeover in {} ({})", change.hot ? "hot" : "cold",
+                    eni::to_string(change.master_state),
+                    from_mirror ? fmt::format("from the mirror of the partner's cycle {}", mirrored_->cycle)
+                    : own       ? std::string("back where this master left the slaves")
+                                : std::string("no fresh mirror"));
         raise(master::EventKind::RedStateChanged, as_number(from), as_number(to));
         raise(master::EventKind::Takeover, change.hot ? 1 : 0, static_cast<std::uint32_t>(change.master_state));
     } else {
+        left_bus_ = LeftBus{std::chrono::steady_clock::now(), master_.state()};
         master_.set_sending(false);
         master_.acyclic().refuse(bus::BusErrc::MasterRedStateInactive);
         mirror_->reset();
@@ -253,6 +276,7 @@ void RedundancyController::change_role(RedState to, master::ProcessImage& image)
         log()->warn("now INACTIVE: sending stops, store-and-forward and mirror from the partner");
         raise(master::EventKind::RedStateChanged, as_number(from), as_number(to));
     }
+    if (channel_) channel_->role_changed(to == RedState::Active);
     if (on_role_change_) on_role_change_(change);
 }
 
@@ -369,6 +393,10 @@ void RedundancyController::send_frames(master::FrameSender& sender, std::uint64_
         return;
     }
     history_.record(cycle, image_->inputs(), image_->outputs(), content.master_state);
+    if (channel_) {
+        ChannelSender channel_sender(sender, kAcyclicChannelIndexBase, options_.parameters.max_acyc_frames_per_cycle);
+        channel_->send_frames(channel_sender, cycle, options_.parameters.max_acyc_frames_per_cycle);
+    }
 }
 
 void RedundancyController::read_partner_answer(ConstBytes frame) {
@@ -394,8 +422,12 @@ void RedundancyController::read_partner_answer(ConstBytes frame) {
     }
 }
 
-void RedundancyController::complete(std::uint16_t, const master::ReturnedCopy& main_copy,
+void RedundancyController::complete(std::uint16_t index, const master::ReturnedCopy& main_copy,
                                     const master::ReturnedCopy& red_copy) {
+    if (index >= kAcyclicChannelIndexBase) {
+        if (channel_) channel_->complete(static_cast<std::uint16_t>(index - kAcyclicChannelIndexBase), main_copy, red_copy);
+        return;
+    }
     for (const auto* copy : {&main_copy, &red_copy}) {
         if (copy->path != master::CopyPath::Missing) read_partner_answer(copy->frame);
     }

@@ -64,6 +64,7 @@ int Daemon::open() {
     }
     eni_ = *eni;
 
+    if (const int rc = open_link_guard(); rc != kOk) return rc;  // first: it brings the links up
     if (const int rc = open_links(); rc != kOk) return rc;
 
     master::MasterOptions options;
@@ -102,8 +103,12 @@ int Daemon::open() {
 
     operator_service_ = std::make_unique<OperatorService>(settings_, *master_, *state_machine_, *cycle_thread_, *demo_,
                                                           redundancy_.get(), supervisor_.get());
+    operator_service_->set_tap_bridge(tap_bridge_.get());
+    operator_service_->set_link_guard(link_guard_.get());
+    if (link_guard_) link_guard_policy_ = make_link_guard_policy();
     control_server_ = std::make_unique<control::ControlServer>(
-        io_, *operator_service_, control::SocketSettings{settings_.control_path, settings_.control_mode, settings_.control_group});
+        io_, *operator_service_, control::SocketSettings{settings_.control_path, settings_.control_mode, settings_.control_group,
+                                                   settings_.control_request_timeout, settings_.control_max_clients});
     if (auto opened = control_server_->open(); !opened) {
         log()->error("{}", opened.error());
         return kBadConfig;
@@ -136,6 +141,7 @@ void Daemon::start_threads() {
     if (red_link_) add_receiver(*red_link_, master::LinkRole::Red);
 
     cycle_thread_->start();
+    if (tap_bridge_) tap_bridge_->start();
 
     event_thread_ = std::thread([this] { pump_events(); });
 }
@@ -147,6 +153,7 @@ void Daemon::stop_threads() {
     state_machine_.reset();  // cancels a running sequence (its requests fail when the cycle stops)
     if (cycle_thread_) cycle_thread_->stop();
     for (auto& r : receive_threads_) r->stop();
+    if (tap_bridge_) tap_bridge_->stop();
     if (event_thread_.joinable()) event_thread_.join();
 }
 
@@ -212,6 +219,15 @@ int Daemon::open_redundancy() {
     supervisor_ = std::make_unique<supervisor::Supervisor>(decisions, random_, events_);
     redundancy_->set_role_decider(supervisor_.get());
     topology_verifier_ = std::make_unique<redundancy::TopologyVerifier>(eni_, master_->bus(), events_);
+    if (settings_.tap) {
+        auto bridge = tap_bridge::TapBridge::open(*settings_.tap);
+        if (!bridge) {
+            log()->error("{}", bridge.error());
+            return kLinkFailure;
+        }
+        tap_bridge_ = std::move(*bridge);
+        redundancy_->set_acyclic_channel(&tap_bridge_->channel());
+    }
     return kOk;
 }
 
@@ -282,19 +298,26 @@ int Daemon::run() {
     // (the role change then starts the state machine).
     if (!redundancy_) state_machine_->request(*sequencer::to_master_state(settings_.target_state));
 
+    if (link_guard_) link_guard_->start_heartbeat();
+    service_notifier_ = systemd::ServiceNotifier::from_environment(io_, [this] { return master_->cycle(); },
+                                                                    [this] { return service_status(); });
+
     boost::asio::signal_set signals(io_, SIGINT, SIGTERM);
     signals.async_wait([this](const boost::system::error_code& ec, int signal) {
         if (!ec) log()->info("signal {}: stopping", signal);
+        service_notifier_->stopping();
         io_.stop();
     });
     // The monitor keeps its fd; asio must not close it.
     link_fd_.emplace(io_, ::dup(link_monitor_->selectable_fd()));
     watch_links();
+    service_notifier_->ready();
     io_.run();
 
     const auto timing = cycle_thread_->timing();
     const auto stats = master_->stats();
     stop_threads();
+    if (link_guard_) link_guard_->shutdown();  // stopped sending: now the links go down
     log()->info("{} cycles ({} late, {} skipped, wake-up latency p99 {} µs, max {} µs), {} frames sent, {} lost, "
                 "{} late copies, {} incomplete cycles, {} WKC errors",
                 timing.cycles, timing.late, timing.skipped, timing.latency_percentile_us(99.0),

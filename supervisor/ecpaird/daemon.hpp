@@ -18,6 +18,7 @@
 #include "ecpair/config/daemon_settings.hpp"
 #include "ecpair/eni/model.hpp"
 #include "ecpair/link/link_state_monitor.hpp"
+#include "ecpair/linkguard/link_guard.hpp"
 #include "ecpair/link/pcap_link.hpp"
 #include "ecpair/master/cycle_thread.hpp"
 #include "ecpair/master/event_describer.hpp"
@@ -29,6 +30,9 @@
 #include "ecpair/sequencer/slave_monitor.hpp"
 #include "ecpair/arbitration/random_source.hpp"
 #include "ecpair/supervisor/supervisor.hpp"
+#include "ecpair/tap_bridge/tap_bridge.hpp"
+#include "ecpair/systemd/service_notifier.hpp"
+#include "link_guard_resume_policy.hpp"
 #include "operator_service.hpp"
 
 namespace ecpair::daemon {
@@ -56,6 +60,9 @@ private:
     std::chrono::microseconds cycle_time() const;
     int open_links();
     int open_redundancy();
+    int open_link_guard();          // daemon_ops.cpp
+    std::unique_ptr<LinkGuardResumePolicy> make_link_guard_policy();  // daemon_ops.cpp
+    std::string service_status() const;  // daemon_ops.cpp: one line for systemd
     void on_role_change(const redundancy::RoleChange& change);
     void on_sequence_done(const sequencer::SequenceResult& result);
     void on_cycle(master::ProcessImage& image, const master::CycleInfo& info);
@@ -71,6 +78,7 @@ private:
     std::unique_ptr<DemoApplication> demo_;
     std::unique_ptr<sequencer::MasterStateMachine> state_machine_;
     std::unique_ptr<sequencer::SlaveMonitor> slave_monitor_;
+    std::unique_ptr<tap_bridge::TapBridge> tap_bridge_;  // only with a tap block; outlives the controller
     std::unique_ptr<redundancy::RedundancyController> redundancy_;  // only in a redundant pair
     arbitration::SystemRandom random_;
     std::unique_ptr<supervisor::Supervisor> supervisor_;            // decides the pair member's role
@@ -86,6 +94,11 @@ private:
     std::optional<boost::asio::posix::stream_descriptor> link_fd_;
     std::thread event_thread_;
     std::atomic<bool> stopping_{false};
+
+    // Operations (daemon_ops.cpp): after io_, which they use.
+    std::unique_ptr<linkguard::LinkGuard> link_guard_;  // only with link_guard.enabled
+    std::unique_ptr<LinkGuardResumePolicy> link_guard_policy_;
+    std::unique_ptr<systemd::ServiceNotifier> service_notifier_;
 };
 
 }  // namespace ecpair::daemon

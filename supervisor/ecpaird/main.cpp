@@ -7,8 +7,10 @@
 #include <boost/program_options.hpp>
 
 #include "daemon.hpp"
+#include "open_file_limit.hpp"
 #include "ecpair/common/log.hpp"
 #include "ecpair/eni/loader.hpp"
+#include "ecpair/systemd/journal.hpp"
 
 int main(int argc, char** argv) {
     namespace po = boost::program_options;
@@ -20,6 +22,7 @@ int main(int argc, char** argv) {
         ("config,c", po::value(&config_path), "configuration file (.textproto), required")
         ("check", "validate the configuration and the ENI, then exit")
         ("log-level", po::value(&log_level), "override the configuration's log level");
+    ecpair::systemd::log_to_journal_if_connected("ecpaird");
     po::variables_map vm;
     try {
         po::store(po::parse_command_line(argc, argv, options), vm);
@@ -56,6 +59,8 @@ int main(int argc, char** argv) {
                   << " slave(s)\n";
         return 0;
     }
+    // Operator clients, links, the link guard's socket at the top (LinkGuard).
+    ecpair::daemon::raise_open_file_limit(65536);
     ecpair::daemon::Daemon daemon(std::move(*settings));
     if (const int rc = daemon.open(); rc != 0) return rc;
     return daemon.run();

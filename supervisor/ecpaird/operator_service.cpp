@@ -5,6 +5,8 @@
 #include <fmt/format.h>
 
 #include "ecpair/wire/al_status.hpp"
+#include "tap_bridge_status.hpp"
+#include "link_guard_status.hpp"
 
 namespace ecpair::daemon {
 namespace {
@@ -97,11 +99,13 @@ control::StatusReply OperatorService::status(const control::StatusRequest& reque
         out->set_dropped_damaged(r.forwarding.dropped_damaged);
         if (supervisor_) add_supervisor_status(r, *reply.mutable_supervisor());
     }
+    if (tap_bridge_) fill_tap_bridge_status(*tap_bridge_, *reply.mutable_tap_bridge());
     const auto loop = demo_.stats();
     auto* l = reply.mutable_loopback();
     l->set_cycles_checked(loop.cycles_checked);
     l->set_slave_checks(loop.slaves_checked);
     l->set_mismatches(loop.mismatches);
+    fill_link_guard_status(link_guard_, *reply.mutable_link_guard());
     return reply;
 }
 
@@ -169,6 +173,7 @@ void OperatorService::add_supervisor_status(const redundancy::RedundancySnapshot
     out.set_comm_timeout_ms(static_cast<std::uint32_t>(
         std::chrono::duration_cast<std::chrono::milliseconds>(s.comm_timeout).count()));
     out.set_silence_ms(std::chrono::duration<double, std::milli>(s.silence).count());
+    out.set_longest_silence_ms(std::chrono::duration<double, std::milli>(s.longest_silence).count());
     out.set_last_cmf_age_ms(age_ms(pair.last_cmf_completed));
     out.set_partner_answer_age_ms(age_ms(pair.partner_last_answer));
     if (pair.state == redundancy::RedState::Active && pair.partner_status) {

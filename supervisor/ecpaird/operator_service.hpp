@@ -10,12 +10,14 @@
 #include "demo_application.hpp"
 #include "ecpair/config/daemon_settings.hpp"
 #include "ecpair/control/control_server.hpp"
+#include "ecpair/linkguard/link_guard.hpp"
 #include "ecpair/master/cycle_thread.hpp"
 #include "ecpair/master/event_describer.hpp"
 #include "ecpair/master/master.hpp"
 #include "ecpair/redundancy/redundancy_controller.hpp"
 #include "ecpair/sequencer/master_state_machine.hpp"
 #include "ecpair/supervisor/supervisor.hpp"
+#include "ecpair/tap_bridge/tap_bridge.hpp"
 
 namespace ecpair::daemon {
 
@@ -37,8 +39,10 @@ public:
     std::optional<std::string> set_master_state(const control::SetMasterStateRequest& request) override;
     std::optional<std::string> set_red_state(const control::SetRedStateRequest& request) override;
     control::ImageHistoryReply image_history(const control::ImageHistoryRequest& request) override;
+    void set_tap_bridge(const tap_bridge::TapBridge* bridge) { tap_bridge_ = bridge; }
     std::optional<std::string> switchover(const control::SwitchoverRequest& request) override;
     std::optional<std::string> force_standby(const control::ForceStandbyRequest& request) override;
+    void set_link_guard(const linkguard::LinkGuard* guard) { link_guard_ = guard; }
 
 private:
     void add_supervisor_status(const redundancy::RedundancySnapshot& pair, control::SupervisorStatus& out) const;
@@ -50,6 +54,8 @@ private:
     const DemoApplication& demo_;
     redundancy::RedundancyController* redundancy_;  // null outside a pair
     supervisor::Supervisor* supervisor_;            // null outside a pair
+    const tap_bridge::TapBridge* tap_bridge_ = nullptr;  // null without a tap block
+    const linkguard::LinkGuard* link_guard_ = nullptr;  // null when off
 };
 
 // The event as the operator API carries it.

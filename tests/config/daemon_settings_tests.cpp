@@ -131,14 +131,67 @@ redundancy { enabled: true initial_state: ACTIVE master_pd_out_size: 16 master_p
           "test.textproto:3:14: redundancy.master_pd_in_size: must be 0..4096 bytes (got 5000)");
 }
 
-TEST_CASE("the example configurations of a pair are valid", "[config]") {
-    for (const char* name : {"m1", "m2"}) {
+TEST_CASE("the example configurations of a pair are valid and agree on everything but name and interfaces",
+          "[config]") {
+    std::vector<ecpair::config::DaemonSettings> members;
+    for (const char* name : {"controller-a", "controller-b"}) {
         auto s = ecpair::config::load_daemon_settings(std::string(ECPAIR_TEST_DATA_DIR) + "/../../deploy/config/" + name +
                                                       ".textproto");
         INFO(name);
         REQUIRE(s);
+        CHECK(s->name == name);
         CHECK(s->redundancy.enabled);
-        CHECK(s->redundancy.start_active == (std::string(name) == "m1"));
+        CHECK_FALSE(s->redundancy.start_active);  // no initial role: the pair decides
         CHECK(s->cable_redundancy);
+        CHECK(s->link_guard.enabled);
+        members.push_back(*s);
     }
+    const auto& a = members[0];
+    const auto& b = members[1];
+    CHECK(a.eni_path == b.eni_path);
+    CHECK(a.cycle_time == b.cycle_time);
+    CHECK(a.split_lrw == b.split_lrw);
+    CHECK(a.max_acyclic_frames_per_cycle == b.max_acyclic_frames_per_cycle);
+    CHECK(a.redundancy.master_pd_out_size == b.redundancy.master_pd_out_size);
+    CHECK(a.redundancy.master_pd_in_size == b.redundancy.master_pd_in_size);
+    CHECK(a.redundancy.update_slave_pd_in == b.redundancy.update_slave_pd_in);
+    CHECK(a.redundancy.update_slave_pd_out == b.redundancy.update_slave_pd_out);
+    CHECK(a.control_path != b.control_path);
+}
+
+TEST_CASE("link guard and operator socket settings: defaults, values, and their errors", "[config]") {
+    auto plain = parse_daemon_settings(kMinimal);
+    REQUIRE(plain);
+    CHECK_FALSE(plain->link_guard.enabled);  // a single master: off unless asked for
+    CHECK(plain->link_guard.hang_timeout == std::chrono::milliseconds(50));
+    CHECK(plain->control_request_timeout == std::chrono::milliseconds(5000));
+    CHECK(plain->control_max_clients == 2048);
+
+    auto pair = parse_daemon_settings(R"(
+interfaces { main: "m1-main" red: "m1-red" }
+eni_path: "x.xml"
+redundancy { enabled: true }
+)");
+    REQUIRE(pair);
+    CHECK(pair->link_guard.enabled);  // a pair member: on
+
+    auto set = parse_daemon_settings(R"(
+interfaces { main: "m1-main" red: "m1-red" }
+eni_path: "x.xml"
+redundancy { enabled: true }
+link_guard { enabled: false hang_timeout_ms: 200 }
+control { request_timeout_ms: 250 max_clients: 10 }
+)");
+    REQUIRE(set);
+    CHECK_FALSE(set->link_guard.enabled);
+    CHECK(set->link_guard.hang_timeout == std::chrono::milliseconds(200));
+    CHECK(set->control_request_timeout == std::chrono::milliseconds(250));
+    CHECK(set->control_max_clients == 10);
+
+    CHECK(error_of("interfaces { main: \"a\" }\neni_path: \"x\"\nlink_guard { hang_timeout_ms: 5 }\n") ==
+          "test.textproto:3:14: link_guard.hang_timeout_ms: must be 10..60000 ms (got 5)");
+    CHECK(error_of("interfaces { main: \"a\" }\neni_path: \"x\"\ncontrol { request_timeout_ms: 1 }\n") ==
+          "test.textproto:3:11: control.request_timeout_ms: must be 100..600000 ms (got 1)");
+    CHECK(error_of("interfaces { main: \"a\" }\neni_path: \"x\"\ncontrol { max_clients: 100000 }\n") ==
+          "test.textproto:3:11: control.max_clients: must be 1..65536 (got 100000)");
 }

@@ -10,7 +10,9 @@
 #include "netlink_message_builder.hpp"
 
 using ecpair::link::detail::decode_netlink_link_messages;
+using ecpair::link::detail::encode_link_admin_request;
 using ecpair::link::detail::encode_link_dump_request;
+using ecpair::link::detail::encode_link_get_request;
 using ecpair::link::detail::LinkMessage;
 using ecpair::link::test::NetlinkDatagram;
 
@@ -163,6 +165,47 @@ TEST_CASE("netlink: the dump request asks for every link", "[link][netlink]") {
     std::memcpy(&info, request.data() + sizeof(header), sizeof(info));
     CHECK(info.ifi_family == AF_UNSPEC);
     CHECK(info.ifi_index == 0);
+}
+
+TEST_CASE("netlink: the admin request sets or clears IFF_UP of the named interface", "[link][netlink]") {
+    for (const bool up : {true, false}) {
+        const auto request = encode_link_admin_request(7, "m1-main", up);
+        nlmsghdr header{};
+        std::memcpy(&header, request.data(), sizeof(header));
+        CHECK(header.nlmsg_len == request.size());
+        CHECK(request.size() % 4 == 0);
+        CHECK(header.nlmsg_type == RTM_NEWLINK);
+        CHECK(header.nlmsg_flags == (NLM_F_REQUEST | NLM_F_ACK));
+        CHECK(header.nlmsg_seq == 7);
+        ifinfomsg info{};
+        std::memcpy(&info, request.data() + sizeof(header), sizeof(info));
+        CHECK(info.ifi_index == 0);
+        CHECK(info.ifi_change == IFF_UP);
+        CHECK(info.ifi_flags == (up ? static_cast<unsigned>(IFF_UP) : 0u));
+        rtattr attribute{};
+        std::memcpy(&attribute, request.data() + sizeof(header) + sizeof(info), sizeof(attribute));
+        CHECK(attribute.rta_type == IFLA_IFNAME);
+        CHECK(attribute.rta_len == sizeof(rtattr) + 8);  // "m1-main" and its NUL
+        const char* name = reinterpret_cast<const char*>(request.data() + sizeof(header) + sizeof(info) + sizeof(attribute));
+        CHECK(std::string(name) == "m1-main");
+    }
+    const auto get = encode_link_get_request(8, "eth0");
+    nlmsghdr header{};
+    std::memcpy(&header, get.data(), sizeof(header));
+    CHECK(header.nlmsg_type == RTM_GETLINK);
+    CHECK(header.nlmsg_flags == (NLM_F_REQUEST | NLM_F_ACK));
+}
+
+TEST_CASE("netlink: an acknowledgement is an error message with code 0 and the request's sequence", "[link][netlink]") {
+    NetlinkDatagram datagram;
+    datagram.error(0);
+    auto batch = decode_netlink_link_messages(datagram.bytes());
+    REQUIRE(batch);
+    CHECK(batch->acknowledged);
+    CHECK(batch->error == 0);
+    auto links = decode_netlink_link_messages(NetlinkDatagram().link(RTM_NEWLINK, 3, IFF_UP).name("ecm0").bytes());
+    REQUIRE(links);
+    CHECK_FALSE(links->acknowledged);
 }
 
 TEST_CASE("netlink: a real kernel dump decodes (seed corpus, veth pair in a namespace)", "[link][netlink]") {

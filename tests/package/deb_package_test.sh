@@ -14,7 +14,7 @@ fail() { echo "FAIL: $*" >&2; exit 1; }
 # A staged install with prefix /usr.
 staged=$work/staged
 DESTDIR=$staged cmake --install "$build" --prefix /usr >"$work/install.log" 2>&1 || { cat "$work/install.log"; fail "cmake --install"; }
-for path in usr/bin/ecpaird usr/bin/ecpairctl etc/ecpair/m1.textproto lib/systemd/system/ecpaird@.service \
+for path in usr/bin/ecpaird usr/bin/ecpair-linkguard usr/bin/ecpairctl etc/ecpair/controller-a.textproto lib/systemd/system/ecpaird@.service \
             usr/share/doc/ecpair/README.md; do
   [ -f "$staged/$path" ] || fail "cmake --install put no /$path"
 done
@@ -30,15 +30,17 @@ for lib in libc6 libstdc++6 libpcap0.8 libtinyxml2 libspdlog libfmt libprotobuf 
 done
 
 contents=$(dpkg-deb -c "$deb" | awk '{print $6}')
-for path in ./usr/bin/ecpaird ./usr/bin/ecpairctl ./usr/bin/ecsim ./usr/bin/ecsim-make-eni \
-            ./etc/ecpair/m1.textproto ./etc/ecpair/m2.textproto ./lib/systemd/system/ecpaird@.service \
+for path in ./usr/bin/ecpaird ./usr/bin/ecpair-linkguard ./usr/bin/ecpairctl ./usr/bin/ecsim ./usr/bin/ecsim-make-eni \
+            ./etc/ecpair/controller-a.textproto ./etc/ecpair/controller-b.textproto ./lib/systemd/system/ecpaird@.service \
             ./usr/share/doc/ecpair/README.md ./usr/share/doc/ecpair/docs/ARCHITECTURE.md; do
   grep -qx "$path" <<<"$contents" || fail "the package has no $path"
 done
 grep -q '^\./usr/local' <<<"$contents" && fail "files under /usr/local"
 
 dpkg-deb -e "$deb" "$work/control"
-grep -qx /etc/ecpair/m1.textproto "$work/control/conffiles" || fail "/etc/ecpair/m1.textproto is not a conffile"
+for conf in controller-a controller-b; do
+  grep -qx "/etc/ecpair/$conf.textproto" "$work/control/conffiles" || fail "/etc/ecpair/$conf.textproto is not a conffile"
+done
 
 # A real install into a scratch root: dpkg with its own (empty) database.
 # The libraries it depends on are this machine's, so --force-depends.
@@ -49,6 +51,9 @@ dpkg --root="$root" --force-depends --force-not-root -i "$deb" >"$work/dpkg.log"
 dpkg --root="$root" -s ecpair | grep -q '^Status: install ok installed' || fail "dpkg does not list ecpair as installed"
 grep -q "^ExecStart=/usr/bin/ecpaird --config /etc/ecpair/%i.textproto" "$root/lib/systemd/system/ecpaird@.service" ||
   fail "the unit does not start /usr/bin/ecpaird"
+grep -q "^ExecStopPost=/usr/bin/ecpair-linkguard " "$root/lib/systemd/system/ecpaird@.service" ||
+  fail "the unit's ExecStopPost does not run /usr/bin/ecpair-linkguard"
+grep -q "/usr/local" "$root/lib/systemd/system/ecpaird@.service" && fail "the installed unit names /usr/local"
 
 out=$("$root/usr/bin/ecpairctl" eni "$eni") || fail "the installed ecpairctl refused $eni: $out"
 echo "$out" | head -5

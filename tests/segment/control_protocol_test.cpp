@@ -49,7 +49,8 @@ TEST_CASE("bad requests are refused with a reason", "[control]") {
     CHECK(refusal("power-off") == "power-off takes 1 argument, got 0: power-off K");
     CHECK(refusal("status 1") == "status takes 0 arguments, got 1: status");
     CHECK(refusal("set-id 1") == "set-id takes 2 arguments, got 1: set-id K VALUE");
-    CHECK(refusal("break 1 2 3") == "too many words in 'break 1 2 3'");
+    CHECK(refusal("break 1 2 3") == "break takes 1 argument, got 3: break K");
+    CHECK(refusal("break 1 2 3 4 5") == "too many words in 'break 1 2 3 4 5'");
     CHECK(refusal("break -1") == "break: K must be a decimal number in 0..65535, got '-1'");
     CHECK(refusal("break 0x2") == "break: K must be a decimal number in 0..65535, got '0x2'");
     CHECK(refusal("break 65536") == "break: K must be a decimal number in 0..65535, got '65536'");
@@ -76,4 +77,19 @@ TEST_CASE("responses stay on one line", "[control]") {
     const std::string usage = control_usage();
     CHECK(usage.find('\n') == std::string::npos);
     CHECK_THAT(usage, Catch::Contains("set-alias K VALUE") && Catch::Contains("insert-unknown K"));
+}
+
+TEST_CASE("impair names a cable, a loss and a duplication share and a delay", "[control]") {
+    const auto request = parsed("impair red 10 2 500");
+    CHECK(request.command == ControlCommand::Impair);
+    CHECK(request.red_side);
+    CHECK(request.loss_percent == 10);
+    CHECK(request.duplicate_percent == 2);
+    CHECK(request.delay_us == 500);
+    CHECK_FALSE(parsed("impair main 0 0 0").red_side);
+    CHECK(refusal("impair left 1 1 1") == "impair: SIDE must be main or red, got 'left'");
+    CHECK(refusal("impair main 101 0 0") == "impair: LOSS% and DUP% must be 0..100, got '101' '0'");
+    CHECK(refusal("impair main 0 0 200000") == "impair: DELAY_US must be 0..100000, got '200000'");
+    CHECK(refusal("impair main 1 1") ==
+          "impair takes 4 arguments, got 3: impair main|red LOSS% DUP% DELAY_US");
 }

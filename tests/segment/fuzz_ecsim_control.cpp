@@ -27,6 +27,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         case ControlCommand::SetId:
             again += " " + std::to_string(request->position) + " " + std::to_string(request->value);
             break;
+        case ControlCommand::Impair:
+            again += (request->red_side ? " red " : " main ") + std::to_string(request->loss_percent) + " " +
+                     std::to_string(request->duplicate_percent) + " " + std::to_string(request->delay_us);
+            break;
         default: again += " " + std::to_string(request->position); break;
     }
     const auto reparsed = ecpair::sim::parse_control_request(again);

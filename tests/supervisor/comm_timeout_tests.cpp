@@ -24,6 +24,7 @@ TEST_CASE("silence grows with our cycles and expires at the timeout", "[supervis
     timeout.heard(t0 + 21ms);
     CHECK_FALSE(timeout.expired());
     CHECK(timeout.silence() == 0ms);
+    CHECK(timeout.longest_silence() == 20ms);
 }
 
 TEST_CASE("one cycle counts at most two cycle times", "[supervisor]") {

@@ -27,7 +27,7 @@ EcpairdProcess::EcpairdProcess(const TestNamespace& ns, EcpairdSettings settings
             << "cable_redundancy: " << (settings_.cable_redundancy ? "true" : "false") << "\n";
         if (settings_.cable_redundancy && settings_.split_lrw) out << "split_lrw: true\n";
         out << "demo { kind: " << settings_.demo << " }\n"
-            << "control { path: \"" << socket().string() << "\" }\n"
+            << "control { path: \"" << socket().string() << "\" " << settings_.control_extra << " }\n"
             << "log_level: \"debug\"\n"
             << settings_.extra_config << "\n";
     }

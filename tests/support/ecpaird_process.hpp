@@ -28,6 +28,7 @@ struct EcpairdSettings {
     bool split_lrw = true;
     std::string demo = "LOOPBACK_CHECK";
     std::string extra_config;  // more textproto lines
+    std::string control_extra;  // more fields of `control { ... }` (the path is set already)
     bool wait_until_ready = true;  // false: the constructor returns at once (call wait_ready())
 };
 
@@ -42,6 +43,7 @@ public:
     std::string log() const { return process_->log(); }
     bool running() { return process_->running(); }
     int stop() { return process_->stop(); }
+    std::optional<int> wait_for_exit(std::chrono::milliseconds timeout) { return process_->wait_for_exit(timeout); }
     // Sends a signal to the daemon (SIGKILL, SIGSTOP, SIGCONT...).
     void signal(int signal_number) const;
 

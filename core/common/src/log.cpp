@@ -17,14 +17,32 @@ spdlog::level::level_enum& default_level() {
     return level;
 }
 
+// Empty: each logger gets its own colour sink on stderr.
+std::vector<spdlog::sink_ptr>& installed_sinks() {
+    static std::vector<spdlog::sink_ptr> sinks;
+    return sinks;
+}
+
 }  // namespace
 
 std::shared_ptr<spdlog::logger> logger(const std::string& module) {
     std::lock_guard lock(registry_mutex());
     if (auto existing = spdlog::get(module)) return existing;
-    auto created = spdlog::stderr_color_mt(module);
+    std::shared_ptr<spdlog::logger> created;
+    if (installed_sinks().empty()) {
+        created = spdlog::stderr_color_mt(module);
+    } else {
+        created = std::make_shared<spdlog::logger>(module, installed_sinks().begin(), installed_sinks().end());
+        spdlog::register_logger(created);
+    }
     created->set_level(default_level());
     return created;
+}
+
+void set_log_sinks(std::vector<spdlog::sink_ptr> sinks) {
+    std::lock_guard lock(registry_mutex());
+    installed_sinks() = std::move(sinks);
+    spdlog::apply_all([](const std::shared_ptr<spdlog::logger>& existing) { existing->sinks() = installed_sinks(); });
 }
 
 bool set_log_level(const std::string& level_name) {

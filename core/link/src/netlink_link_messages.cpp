@@ -104,6 +104,7 @@ Expected<NetlinkBatch, NetlinkDecodeError> decode_netlink_link_messages(ConstByt
             return problem_at(offset,
                               fmt::format("message length {} does not fit the {} bytes left", header.nlmsg_len, left));
         }
+        if (offset == 0) batch.sequence = header.nlmsg_seq;
         const std::size_t payload_at = offset + sizeof(nlmsghdr);
         const ConstBytes payload = datagram.subspan(payload_at, header.nlmsg_len - sizeof(nlmsghdr));
         switch (header.nlmsg_type) {
@@ -115,6 +116,7 @@ Expected<NetlinkBatch, NetlinkDecodeError> decode_netlink_link_messages(ConstByt
                     return problem_at(payload_at, "error message without an error code");
                 }
                 batch.error = copy_out<int>(payload, 0);
+                batch.acknowledged = true;
                 break;
             case RTM_NEWLINK:
             case RTM_DELLINK: {
@@ -145,6 +147,50 @@ std::array<std::uint8_t, kLinkDumpRequestSize> encode_link_dump_request(std::uin
     std::memcpy(out.data(), &header, sizeof(header));
     std::memcpy(out.data() + sizeof(header), &request, sizeof(request));
     return out;
+}
+
+namespace {
+
+// nlmsghdr + ifinfomsg + an IFLA_IFNAME attribute.
+std::vector<std::uint8_t> encode_named_link_request(std::uint16_t type, std::uint32_t sequence,
+                                                    const std::string& ifname, unsigned change, unsigned flags) {
+    const std::size_t name_size = ifname.size() + 1;  // with the terminating NUL
+    const std::size_t attribute_size = sizeof(rtattr) + name_size;
+    const std::size_t total = sizeof(nlmsghdr) + align4(sizeof(ifinfomsg)) + align4(attribute_size);
+    nlmsghdr header{};
+    header.nlmsg_len = static_cast<std::uint32_t>(total);
+    header.nlmsg_type = type;
+    header.nlmsg_flags = NLM_F_REQUEST | NLM_F_ACK;
+    header.nlmsg_seq = sequence;
+    ifinfomsg info{};
+    info.ifi_family = AF_UNSPEC;
+    info.ifi_index = 0;  // addressed by IFLA_IFNAME
+    info.ifi_change = change;
+    info.ifi_flags = flags;
+    rtattr attribute{};
+    attribute.rta_len = static_cast<unsigned short>(attribute_size);
+    attribute.rta_type = IFLA_IFNAME;
+
+    std::vector<std::uint8_t> out(total, 0);
+    std::size_t at = 0;
+    std::memcpy(out.data() + at, &header, sizeof(header));
+    at += sizeof(header);
+    std::memcpy(out.data() + at, &info, sizeof(info));
+    at += align4(sizeof(info));
+    std::memcpy(out.data() + at, &attribute, sizeof(attribute));
+    at += sizeof(attribute);
+    std::memcpy(out.data() + at, ifname.c_str(), name_size);
+    return out;
+}
+
+}  // namespace
+
+std::vector<std::uint8_t> encode_link_admin_request(std::uint32_t sequence, const std::string& ifname, bool up) {
+    return encode_named_link_request(RTM_NEWLINK, sequence, ifname, IFF_UP, up ? static_cast<unsigned>(IFF_UP) : 0u);
+}
+
+std::vector<std::uint8_t> encode_link_get_request(std::uint32_t sequence, const std::string& ifname) {
+    return encode_named_link_request(RTM_GETLINK, sequence, ifname, 0, 0);
 }
 
 }  // namespace ecpair::link::detail

@@ -1,7 +1,8 @@
 #pragma once
-// The rtnetlink messages a LinkStateMonitor exchanges with the kernel: the
-// RTM_GETLINK dump request it sends, and the datagrams it receives
-// (RTM_NEWLINK / RTM_DELLINK, NLMSG_DONE, NLMSG_ERROR). Received bytes are
+// The rtnetlink messages a LinkStateMonitor and a LinkAdmin exchange with the
+// kernel: the requests they send (an RTM_GETLINK dump; RTM_NEWLINK setting
+// IFF_UP and RTM_GETLINK of one interface by name), and the datagrams they
+// receive (RTM_NEWLINK / RTM_DELLINK, NLMSG_DONE, NLMSG_ERROR). Received bytes are
 // treated as untrusted: every length is checked before it is used, and a
 // malformed datagram gives an error naming the byte offset and the problem.
 
@@ -40,6 +41,8 @@ struct NetlinkBatch {
     std::vector<LinkMessage> links;
     bool dump_done = false;  // NLMSG_DONE: the end of a dump
     int error = 0;           // of an NLMSG_ERROR: a negative errno (0: none, or an ack)
+    bool acknowledged = false;  // an NLMSG_ERROR came (error or ack): the request is answered
+    std::uint32_t sequence = 0;  // nlmsg_seq of the datagram's first message
 };
 
 struct NetlinkDecodeError {
@@ -56,5 +59,11 @@ inline constexpr std::size_t kLinkDumpRequestSize = 32;
 
 // An RTM_GETLINK request for all interfaces (NLM_F_DUMP).
 std::array<std::uint8_t, kLinkDumpRequestSize> encode_link_dump_request(std::uint32_t sequence);
+
+// An RTM_NEWLINK request that sets (`up`) or clears IFF_UP of the interface
+// named `ifname` (shorter than IFNAMSIZ), asking for an acknowledgement.
+std::vector<std::uint8_t> encode_link_admin_request(std::uint32_t sequence, const std::string& ifname, bool up);
+// An RTM_GETLINK request for the one interface named `ifname`, with an acknowledgement.
+std::vector<std::uint8_t> encode_link_get_request(std::uint32_t sequence, const std::string& ifname);
 
 }  // namespace ecpair::link::detail

@@ -1,6 +1,7 @@
 #include "ecpair/master/events.hpp"
 
 #include <algorithm>
+#include <cstring>
 
 #include <fmt/format.h>
 
@@ -13,6 +14,17 @@ namespace {
 std::string role_name(std::uint32_t role) { return role == 0 ? "MAIN" : "RED"; }
 
 std::string state_name(std::uint32_t state) { return wire::al_state_name(static_cast<std::uint8_t>(state)); }
+
+std::string guarded_links(std::uint32_t links) {
+    if (links == 3) return "MAIN and RED";
+    if (links == 1) return "MAIN";
+    if (links == 2) return "RED";
+    return "no link";
+}
+
+std::string link_guard_failure(std::uint32_t error) {
+    return error == 0 ? std::string() : fmt::format(" (failed for some: {})", std::strerror(static_cast<int>(error)));
+}
 
 std::string partner_differences(std::uint32_t mask) {
     static constexpr std::pair<std::uint32_t, const char*> kNames[] = {
@@ -186,6 +198,10 @@ std::string_view to_string(EventKind kind) {
         case EventKind::ArbitrationSettled: return "arbitration-settled";
         case EventKind::StandbyForced: return "standby-forced";
         case EventKind::NoActiveMaster: return "no-active-master";
+        case EventKind::LinkGuardLinksDown: return "link-guard-links-down";
+        case EventKind::LinkGuardResumed: return "link-guard-resumed";
+        case EventKind::LinkGuardLinksUp: return "link-guard-links-up";
+        case EventKind::LinkGuardGone: return "link-guard-gone";
     }
     return "unknown-event";
 }
@@ -270,6 +286,21 @@ std::string describe(const Event& e) {
             return prefix + fmt::format("NO MASTER IS ACTIVE: {}; the slaves get no process data",
                                         kWhy[std::min<std::uint32_t>(e.a, 2)]);
         }
+        case EventKind::LinkGuardLinksDown:
+            return prefix + fmt::format("link guard took {} down: {} ({} ms without a heartbeat){}", guarded_links(e.b),
+                                        e.a == 1 ? "the cycle stood still" : "ecpaird is stopping", e.c,
+                                        link_guard_failure(e.d));
+        case EventKind::LinkGuardResumed:
+            return prefix + fmt::format("the cycle advances again after standing still for {} ms; the link guard keeps "
+                                        "the links down until this master may drive them",
+                                        e.c);
+        case EventKind::LinkGuardLinksUp:
+            return prefix + fmt::format("link guard brought {} up: {}{}", guarded_links(e.b),
+                                        e.a == 0 ? "ecpaird started"
+                                                 : fmt::format("this master may drive its links again (down for {} ms)", e.c),
+                                        link_guard_failure(e.d));
+        case EventKind::LinkGuardGone:
+            return prefix + fmt::format("the link guard process ended (status {}): the links are no longer guarded", e.a);
     }
     return prefix + "unknown event";
 }

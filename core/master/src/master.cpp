@@ -210,7 +210,7 @@ void Master::complete_previous_cycle(link::Clock::time_point now) {
     bool ring_broken = false;
     bool lost_reported = false;
     std::optional<std::uint16_t> reachable;
-    std::optional<std::uint16_t> answered_brd;  // the largest WKC of a complete cyclic BRD
+    std::optional<std::uint16_t> answered_brd;  // the largest WKC of a returned cyclic BRD
     const bool sent_any = !in_flight_.empty();
     mismatches_.clear();
 
@@ -244,6 +244,13 @@ void Master::complete_previous_cycle(link::Clock::time_point now) {
             any_returned = true;
             ring_closed = ring_closed || merged->ring_closed;
             ring_broken = ring_broken || merged->ring_broken;
+            // What answered the AL-status BRD is what this master reaches, complete frame or not
+            // (one half of a ring broken twice never meets the ENI's WKCs).
+            if (f.kind == FrameKind::Cyclic && view) {
+                for (const auto d : *view) {
+                    if (d.command() == wire::Command::Brd) answered_brd = std::max(answered_brd.value_or(0), d.wkc());
+                }
+            }
         }
         if (main_copy.path == CopyPath::BouncedMain) {
             // A BRD's WKC in a MAIN copy that bounced counts the slaves before the break.
@@ -277,9 +284,6 @@ void Master::complete_previous_cycle(link::Clock::time_point now) {
         const auto result = exchange_.complete(f.index, *view, image_.inputs(), mismatches_);
         if (!result.layout_ok) all_complete = false;
         stats_.wkc_errors.fetch_add(result.wkc_errors, std::memory_order_relaxed);
-        for (const auto d : *view) {
-            if (d.command() == wire::Command::Brd) answered_brd = std::max(answered_brd.value_or(0), d.wkc());
-        }
     }
     in_flight_.clear();
     if (answered_brd) slaves_reached_.store(*answered_brd);

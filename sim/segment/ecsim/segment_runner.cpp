@@ -15,6 +15,8 @@
 #include <optional>
 #include <system_error>
 
+#include <fmt/format.h>
+
 #include "ecpair/common/log.hpp"
 #include "ecpair/sim/control_commands.hpp"
 #include "ecpair/wire/constants.hpp"
@@ -42,9 +44,8 @@ std::uint64_t nanoseconds(link::Clock::time_point time) {
 Expected<std::unique_ptr<SegmentRunner>, std::string> SegmentRunner::create(RunnerSetup setup) {
     std::unique_ptr<SegmentRunner> runner(new SegmentRunner(std::move(setup)));
     SegmentRunner* self = runner.get();
-    auto control = ControlServer::listen(self->setup_.control_path, [self](std::string_view line) {
-        return sim::handle_control_line(self->setup_.segment, line);
-    });
+    auto control = ControlServer::listen(self->setup_.control_path,
+                                         [self](std::string_view line) { return self->handle_control(line); });
     if (!control) return unexpected(control.error().message);
     runner->control_ = std::move(control).value();
     return runner;
@@ -54,6 +55,20 @@ SegmentRunner::SegmentRunner(RunnerSetup setup) : setup_(std::move(setup)) {}
 
 SegmentRunner::~SegmentRunner() {
     if (setup_.pcap) setup_.pcap->flush();
+}
+
+std::string SegmentRunner::handle_control(std::string_view line) {
+    const auto request = sim::parse_control_request(line);
+    if (!request) return sim::control_error(request.error().message);
+    if (request->command != sim::ControlCommand::Impair) return sim::execute_control_request(setup_.segment, *request);
+    const auto side = request->red_side ? sim::Side::Red : sim::Side::Main;
+    const Impairment impairment{request->loss_percent, request->duplicate_percent,
+                                std::chrono::microseconds(request->delay_us)};
+    impairments_[static_cast<std::size_t>(side)].set(impairment);
+    const auto text = fmt::format("{} cable: loss {}%, duplicates {}%, delay {} µs", request->red_side ? "RED" : "MAIN",
+                                  impairment.loss_percent, impairment.duplicate_percent, impairment.delay.count());
+    runner_log().info("impairment: {}", text);
+    return sim::control_ok(text);
 }
 
 link::Link* SegmentRunner::link_of(sim::Side side) const {
@@ -101,38 +116,74 @@ bool SegmentRunner::serve_side(sim::Side side) {
             setup_.segment.set_side_link(side, true);
         }
 
-        std::size_t size = frame.size;
-        const auto exit = setup_.segment.carry(side, buffer, size, nanoseconds(frame.timestamp));
-        if (!exit) continue;
-        link::Link* out = link_of(*exit);
-        if (out == nullptr) continue;  // the segment never lets a frame out of a side without a link
-        const auto outgoing = std::span<const std::uint8_t>(buffer).first(size);
-        if (auto sent = out->send(outgoing); !sent) {
-            ++send_failures_;
-            runner_log().warn("{}: {} ({} send failures so far)", out->name(), sent.error().message, send_failures_);
-            // The kernel tells carrier changes late; a failed send is the PHY's
-            // news that the cable is gone: close the port now, not a second later.
-            if (!out->link_up()) {
-                runner_log().info("{}: carrier lost (seen on send)", out->name());
-                setup_.segment.set_side_link(*exit, false);
+        auto& impairment = impairments_[static_cast<std::size_t>(side)];
+        const int copies = impairment.copies();
+        if (copies == 0) continue;  // lost on the cable
+        if (impairment.get().delay.count() > 0) {
+            for (int c = 0; c < copies; ++c) {
+                delayed_.push_back({std::chrono::steady_clock::now() + impairment.get().delay, side,
+                                    std::vector<std::uint8_t>(buffer.begin(), buffer.begin() + static_cast<std::ptrdiff_t>(frame.size))});
             }
             continue;
         }
-        if (setup_.pcap) setup_.pcap->record(outgoing, std::chrono::system_clock::now());
+        if (copies == 2) {
+            std::array<std::uint8_t, wire::kMaxFrameSizeVlan> twin = buffer;
+            carry(side, twin, frame.size, nanoseconds(frame.timestamp));
+        }
+        carry(side, buffer, frame.size, nanoseconds(frame.timestamp));
     }
     return true;
 }
 
-// Until the pcap file is due for a flush or an ESC's SM watchdog expires
-// (-1: nothing is due, wait for a descriptor).
+void SegmentRunner::carry(sim::Side side, std::span<std::uint8_t> buffer, std::size_t size, std::uint64_t time_ns) {
+    const auto exit = setup_.segment.carry(side, buffer, size, time_ns);
+    if (!exit) return;
+    const auto outgoing = std::span<const std::uint8_t>(buffer).first(size);
+    const int copies = impairments_[static_cast<std::size_t>(*exit)].copies();
+    for (int c = 0; c < copies; ++c) send(*exit, outgoing);
+}
+
+void SegmentRunner::send(sim::Side exit, std::span<const std::uint8_t> outgoing) {
+    link::Link* out = link_of(exit);
+    if (out == nullptr) return;  // the segment never lets a frame out of a side without a link
+    if (auto sent = out->send(outgoing); !sent) {
+        ++send_failures_;
+        runner_log().warn("{}: {} ({} send failures so far)", out->name(), sent.error().message, send_failures_);
+        // The kernel tells carrier changes late; a failed send is the PHY's
+        // news that the cable is gone: close the port now, not a second later.
+        if (!out->link_up()) {
+            runner_log().info("{}: carrier lost (seen on send)", out->name());
+            setup_.segment.set_side_link(exit, false);
+        }
+        return;
+    }
+    if (setup_.pcap) setup_.pcap->record(outgoing, std::chrono::system_clock::now());
+}
+
+void SegmentRunner::release_delayed() {
+    const auto now = std::chrono::steady_clock::now();
+    while (!delayed_.empty() && delayed_.front().due <= now) {
+        auto& d = delayed_.front();
+        std::array<std::uint8_t, wire::kMaxFrameSizeVlan> buffer{};
+        std::copy(d.bytes.begin(), d.bytes.end(), buffer.begin());
+        carry(d.side, buffer, d.bytes.size(), nanoseconds(link::Clock::now()));
+        delayed_.pop_front();
+    }
+}
+
+// Until the pcap file is due for a flush, a delayed frame is due or an ESC's
+// SM watchdog expires (-1: nothing is due, wait for a descriptor).
 int SegmentRunner::poll_timeout_ms() const {
     const auto now = std::chrono::steady_clock::now();
     std::optional<std::chrono::steady_clock::time_point> due;
-    if (setup_.pcap && setup_.pcap->has_unflushed()) due = next_flush_;
-    if (const auto deadline = setup_.segment.next_deadline()) {
-        const auto at = std::chrono::steady_clock::time_point(
-            std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::nanoseconds(*deadline)));
+    const auto earliest = [&due](std::chrono::steady_clock::time_point at) {
         if (!due || at < *due) due = at;
+    };
+    if (setup_.pcap && setup_.pcap->has_unflushed()) earliest(next_flush_);
+    if (!delayed_.empty()) earliest(delayed_.front().due);
+    if (const auto deadline = setup_.segment.next_deadline()) {
+        earliest(std::chrono::steady_clock::time_point(
+            std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::nanoseconds(*deadline))));
     }
     if (!due) return -1;
     // Rounded up: waking before the deadline would only go round again.
@@ -185,6 +236,7 @@ int SegmentRunner::serve() {
         if (fds[kMain].revents != 0 && !serve_side(sim::Side::Main)) return kExitFailure;
         if (fds[kRed].revents != 0 && !serve_side(sim::Side::Red)) return kExitFailure;
         control_->on_poll(std::span(fds).subspan(control_slot, control_count));
+        release_delayed();
         setup_.segment.advance_time(nanoseconds(std::chrono::steady_clock::now()));
 
         if (setup_.pcap && setup_.pcap->has_unflushed() && std::chrono::steady_clock::now() >= next_flush_) {

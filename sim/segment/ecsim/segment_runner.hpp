@@ -9,18 +9,24 @@
 //   - a timeout: the earliest SM watchdog deadline of the ESCs (the slaves
 //     notice a master that fell silent without any frame arriving).
 // With --pcap every frame in and out is recorded; the file is flushed at
-// most a second after a frame and at exit.
+// most a second after a frame and at exit. `impair` requests on the control
+// socket impair either cable (CableImpairment): lost and duplicated frames,
+// and frames held back a while before they enter the segment.
 //
 // The runner works on the Link / LinkStateSource interfaces, so tests drive
 // it over MemoryWires as ecsim drives it over PcapLinks.
 
+#include <array>
 #include <chrono>
+#include <deque>
+#include <span>
 #include <filesystem>
 #include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "cable_impairment.hpp"
 #include "control_server.hpp"
 #include "ecpair/common/expected.hpp"
 #include "ecpair/link/link.hpp"
@@ -61,15 +67,28 @@ private:
     // Reads the frames waiting on one side's link and carries each through.
     // False when the link failed.
     bool serve_side(sim::Side side);
+    // Carries one frame received on `side` through the segment and sends it on.
+    void carry(sim::Side side, std::span<std::uint8_t> buffer, std::size_t size, std::uint64_t time_ns);
+    void send(sim::Side exit, std::span<const std::uint8_t> frame);
+    // Carries the delayed frames whose time has come.
+    void release_delayed();
+    std::string handle_control(std::string_view line);
+    int poll_timeout_ms() const;
     void apply_link_changes(link::LinkStateSource& source);
     void sync_side_links();
-    int poll_timeout_ms() const;
 
     RunnerSetup setup_;
     std::unique_ptr<ControlServer> control_;
     std::chrono::steady_clock::time_point next_flush_;
     std::uint64_t truncated_frames_ = 0;
     std::uint64_t send_failures_ = 0;
+    std::array<CableImpairment, 2> impairments_{CableImpairment(1), CableImpairment(2)};  // by sim::Side
+    struct Delayed {
+        std::chrono::steady_clock::time_point due;
+        sim::Side side;
+        std::vector<std::uint8_t> bytes;
+    };
+    std::deque<Delayed> delayed_;  // in due order (one delay per side, frames in arrival order)
 };
 
 }  // namespace ecpair::ecsim

@@ -93,6 +93,8 @@ std::string execute_control_request(Segment& segment, const ControlRequest& requ
         case ControlCommand::SetId:
             return outcome(segment.set_id_selector(k, request.value),
                            fmt::format("slave {} ID selector {:#06x}", k, request.value));
+        case ControlCommand::Impair:
+            return control_error("impair acts on ecsim's cables, not on the segment: send it to a running ecsim");
     }
     return control_error("unhandled command");
 }

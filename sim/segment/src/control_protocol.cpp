@@ -22,7 +22,7 @@ struct CommandSyntax {
     int argument_count;
 };
 
-constexpr std::array<CommandSyntax, 10> kSyntax{{
+constexpr std::array<CommandSyntax, 11> kSyntax{{
     {ControlCommand::Status, "status", "", 0},
     {ControlCommand::Help, "help", "", 0},
     {ControlCommand::PowerOff, "power-off", "K", 1},
@@ -33,9 +33,10 @@ constexpr std::array<CommandSyntax, 10> kSyntax{{
     {ControlCommand::RemoveUnknown, "remove-unknown", "K", 1},
     {ControlCommand::SetAlias, "set-alias", "K VALUE", 2},
     {ControlCommand::SetId, "set-id", "K VALUE", 2},
+    {ControlCommand::Impair, "impair", "main|red LOSS% DUP% DELAY_US", 4},
 }};
 
-constexpr std::size_t kMaxWords = 3;
+constexpr std::size_t kMaxWords = 5;
 
 bool is_blank(char c) { return c == ' ' || c == '\t'; }
 
@@ -71,6 +72,30 @@ std::string single_line(std::string_view text) {
         if (static_cast<unsigned char>(c) < 0x20 || c == 0x7F) c = ' ';
     }
     return out;
+}
+
+// impair SIDE LOSS DUP DELAY (the word count is checked already).
+Expected<ControlRequest, ControlParseError> parse_impairment(ControlRequest request,
+                                                            const std::array<std::string_view, kMaxWords>& words) {
+    if (words[1] != "main" && words[1] != "red") {
+        return unexpected(ControlParseError{fmt::format("impair: SIDE must be main or red, got '{}'", printable(words[1]))});
+    }
+    request.red_side = words[1] == "red";
+    const auto loss = parse_number(words[2], false, 100);
+    const auto duplicate = parse_number(words[3], false, 100);
+    const auto delay = parse_number(words[4], false, 100'000);
+    if (!loss || !duplicate) {
+        return unexpected(ControlParseError{fmt::format("impair: LOSS% and DUP% must be 0..100, got '{}' '{}'",
+                                                        printable(words[2]), printable(words[3]))});
+    }
+    if (!delay) {
+        return unexpected(
+            ControlParseError{fmt::format("impair: DELAY_US must be 0..100000, got '{}'", printable(words[4]))});
+    }
+    request.loss_percent = static_cast<std::uint8_t>(*loss);
+    request.duplicate_percent = static_cast<std::uint8_t>(*duplicate);
+    request.delay_us = *delay;
+    return request;
 }
 
 std::string usage_of(const CommandSyntax& syntax) {
@@ -124,6 +149,7 @@ Expected<ControlRequest, ControlParseError> parse_control_request(std::string_vi
 
     ControlRequest request;
     request.command = syntax->command;
+    if (syntax->command == ControlCommand::Impair) return parse_impairment(request, words);
     if (syntax->argument_count >= 1) {
         const auto position = parse_number(words[1], false, 0xFFFF);
         if (!position) {

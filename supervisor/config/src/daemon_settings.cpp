@@ -5,6 +5,7 @@
 #include "ecpair/config/daemon_settings.hpp"
 
 #include <algorithm>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -41,10 +42,18 @@ struct Locations {
         std::vector<std::string> names;
         while (std::getline(parts, part, '.')) names.push_back(part);
         for (std::size_t i = 0; i < names.size(); ++i) {
+            // A repeated field's element is named "field[index]".
+            int index = -1;
+            if (const auto bracket = names[i].find('['); bracket != std::string::npos) {
+                index = std::atoi(names[i].c_str() + bracket + 1);
+                names[i].resize(bracket);
+            }
             const auto* field = current->GetDescriptor()->FindFieldByName(names[i]);
             if (field == nullptr) return {0, 0};
+            if (field->is_repeated() != (index >= 0)) return {0, 0};
+            if (index >= 0 && index >= current->GetReflection()->FieldSize(*current, field)) return {0, 0};
             if (i + 1 == names.size()) {
-                const auto location = node->GetLocation(field, -1);
+                const auto location = node->GetLocation(field, index);
                 return {location.line + 1, location.column + 1};
             }
             node = node->GetTreeForNested(field, -1);
@@ -62,6 +71,54 @@ eni::SlaveState to_state(config::TargetState state) {
         case config::SAFEOP: return eni::SlaveState::Safeop;
         default: return eni::SlaveState::Op;
     }
+}
+
+// The tap block; an error is (field, message).
+Expected<tap_bridge::TapBridgeOptions, std::pair<std::string, std::string>> tap_settings(const config::Tap& tap,
+                                                                                         bool redundancy) {
+    using Error = std::pair<std::string, std::string>;
+    if (!redundancy) {
+        return unexpected(Error{"tap", "the TAP bridge rides on the pair's frames: it needs redundancy { enabled: true }"});
+    }
+    tap_bridge::TapBridgeOptions options;
+    if (!tap.name().empty()) options.name = tap.name();
+    if (options.name.size() > 15) {
+        return unexpected(Error{"tap.name", fmt::format("'{}' is longer than the 15 characters of an interface name", options.name)});
+    }
+    std::size_t ipv4 = 0;
+    for (int i = 0; i < tap.address_size(); ++i) {
+        const std::string field = fmt::format("tap.address[{}]", i);
+        auto address = tap_bridge::InterfaceAddress::parse(tap.address(i));
+        if (!address) return unexpected(Error{field, address.error()});
+        if (address->family == tap_bridge::InterfaceAddress::Family::Ipv4 && ++ipv4 > 1) {
+            return unexpected(
+                Error{field, fmt::format("'{}': at most one IPv4 address (any number of IPv6)", tap.address(i))});
+        }
+        options.addresses.push_back(*address);
+    }
+    if (!tap.mac().empty()) {
+        const auto mac = wire::MacAddress::parse(tap.mac());
+        if (!mac || mac->is_group() || *mac == wire::MacAddress{}) {
+            return unexpected(Error{"tap.mac", fmt::format("'{}' is no unicast MAC address (aa:bb:cc:dd:ee:ff)", tap.mac())});
+        }
+        options.mac = *mac;
+    }
+    if (tap.has_poll_size()) options.poll_size = tap.poll_size();
+    if (tap.has_mtu()) options.mtu = tap.mtu();
+    if (auto mtu = tap_bridge::TapBridge::mtu_for(options); !mtu) {
+        return unexpected(Error{tap.has_mtu() && options.poll_size >= tap_bridge::kMinPollData &&
+                                        options.poll_size <= tap_bridge::kMaxBridgeDatagramData
+                                    ? "tap.mtu"
+                                    : "tap.poll_size",
+                                mtu.error()});
+    }
+    if (tap.has_queue_frames()) {
+        if (tap.queue_frames() < 1 || tap.queue_frames() > 4096) {
+            return unexpected(Error{"tap.queue_frames", fmt::format("must be 1..4096 (got {})", tap.queue_frames())});
+        }
+        options.queue_frames = tap.queue_frames();
+    }
+    return options;
 }
 
 }  // namespace
@@ -127,6 +184,19 @@ Expected<DaemonSettings, ConfigError> parse_daemon_settings(const std::string& t
         s.control_mode = proto.control().mode();
     }
     s.control_group = proto.control().group();
+    if (proto.control().request_timeout_ms() != 0) {
+        if (proto.control().request_timeout_ms() < 100 || proto.control().request_timeout_ms() > 600'000) {
+            return fail("control.request_timeout_ms",
+                        fmt::format("must be 100..600000 ms (got {})", proto.control().request_timeout_ms()));
+        }
+        s.control_request_timeout = std::chrono::milliseconds(proto.control().request_timeout_ms());
+    }
+    if (proto.control().max_clients() != 0) {
+        if (proto.control().max_clients() > 65'536) {
+            return fail("control.max_clients", fmt::format("must be 1..65536 (got {})", proto.control().max_clients()));
+        }
+        s.control_max_clients = proto.control().max_clients();
+    }
     if (proto.has_max_acyclic_frames_per_cycle()) {
         if (proto.max_acyclic_frames_per_cycle() < 1 || proto.max_acyclic_frames_per_cycle() > 16) {
             return fail("max_acyclic_frames_per_cycle",
@@ -205,6 +275,21 @@ Expected<DaemonSettings, ConfigError> parse_daemon_settings(const std::string& t
         }
         out.start_in_forced_standby = r.start_in_forced_standby();
         out.takeover_from_differing_partner = r.takeover_from_differing_partner();
+    }
+    // The link guard protects the partner's ring: on by default in a pair.
+    s.link_guard.enabled = proto.link_guard().has_enabled() ? proto.link_guard().enabled() : s.redundancy.enabled;
+    if (proto.link_guard().hang_timeout_ms() != 0) {
+        if (proto.link_guard().hang_timeout_ms() < 10 || proto.link_guard().hang_timeout_ms() > 60'000) {
+            return fail("link_guard.hang_timeout_ms",
+                        fmt::format("must be 10..60000 ms (got {})", proto.link_guard().hang_timeout_ms()));
+        }
+        s.link_guard.hang_timeout = std::chrono::milliseconds(proto.link_guard().hang_timeout_ms());
+    }
+    if (proto.has_tap()) {
+        auto tap = tap_settings(proto.tap(), s.redundancy.enabled);
+        if (!tap) return fail(tap.error().first, tap.error().second);
+        if (!tap->mac) tap->mac = tap_bridge::default_mac(s.name, tap->name);
+        s.tap = std::move(*tap);
     }
     return s;
 }

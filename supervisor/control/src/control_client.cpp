@@ -9,13 +9,14 @@
 #include <array>
 #include <cerrno>
 #include <cstring>
+#include <vector>
 
 #include <fmt/format.h>
 
 #include "ecpair/control/delimited.hpp"
 
 namespace ecpair::control {
-namespace {
+namespace detail {
 
 class Connection {
 public:
@@ -77,6 +78,40 @@ public:
         }
     }
 
+    int fd() const { return fd_; }
+
+    // Every whole response already received, without waiting; an error when
+    // the server closed the connection or sent something unreadable.
+    Expected<std::vector<Response>, ClientError> receive_available() {
+        std::array<char, 4096> buffer{};
+        bool closed = false;
+        for (;;) {
+            const auto n = ::recv(fd_, buffer.data(), buffer.size(), MSG_DONTWAIT);
+            if (n > 0) {
+                reader_.feed(std::string_view(buffer.data(), static_cast<std::size_t>(n)));
+                continue;
+            }
+            if (n == 0) closed = true;
+            if (n < 0 && errno == EINTR) continue;
+            if (n < 0 && errno != EAGAIN && errno != EWOULDBLOCK) return fail("recv");
+            break;
+        }
+        std::vector<Response> responses;
+        std::string payload;
+        for (;;) {
+            const auto result = reader_.next(payload);
+            if (result == DelimitedReader::Result::NeedMore) break;
+            if (result == DelimitedReader::Result::Error) return unexpected(ClientError{path_ + ": " + reader_.error()});
+            Response response;
+            if (!response.ParseFromString(payload)) {
+                return unexpected(ClientError{path_ + ": the server sent an unreadable response"});
+            }
+            responses.push_back(std::move(response));
+        }
+        if (closed && responses.empty()) return unexpected(ClientError{path_ + ": ecpaird closed the connection"});
+        return responses;
+    }
+
 private:
     Unexpected<ClientError> fail(const char* what) const {
         return unexpected(ClientError{fmt::format("{}: {} failed: {}", path_, what, std::strerror(errno))});
@@ -87,7 +122,28 @@ private:
     DelimitedReader reader_;
 };
 
-}  // namespace
+}  // namespace detail
+
+using detail::Connection;
+
+EventSubscription::EventSubscription(std::unique_ptr<detail::Connection> connection)
+    : connection_(std::move(connection)) {}
+EventSubscription::EventSubscription(EventSubscription&&) noexcept = default;
+EventSubscription& EventSubscription::operator=(EventSubscription&&) noexcept = default;
+EventSubscription::~EventSubscription() = default;
+
+Expected<EventSubscription, ClientError> EventSubscription::open(const std::string& socket_path) {
+    auto connection = std::make_unique<Connection>(socket_path);
+    if (auto c = connection->connect(); !c) return unexpected(c.error());
+    Request request;
+    request.mutable_watch_events();
+    if (auto s = connection->send(request); !s) return unexpected(s.error());
+    return EventSubscription(std::move(connection));
+}
+
+int EventSubscription::fd() const { return connection_->fd(); }
+
+Expected<std::vector<Response>, ClientError> EventSubscription::take() { return connection_->receive_available(); }
 
 Expected<Response, ClientError> call(const std::string& socket_path, const Request& request,
                                      std::chrono::milliseconds timeout) {

@@ -22,6 +22,7 @@ void CommTimeout::link_lost(TimePoint now) {
 void CommTimeout::cycle(TimePoint now) {
     if (last_cycle_ && now > *last_cycle_) {
         silence_ += std::min<std::chrono::nanoseconds>(now - *last_cycle_, 2 * cycle_time_);
+        longest_ = std::max(longest_, silence_);
     }
     last_cycle_ = now;
 }

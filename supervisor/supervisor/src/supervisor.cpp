@@ -577,6 +577,7 @@ void Supervisor::publish(const Observation& seen, const redundancy::RoleDecision
     status_.epoch = epoch_;
     status_.arbitration = arbiter_.state();
     status_.silence = is_active_state(state_) ? std::chrono::nanoseconds(0) : comm_.silence();
+    status_.longest_silence = comm_.longest_silence();
     status_.handoff_cycle = announcement_ ? std::optional<std::uint64_t>(announcement_->cycle()) : pending_handoff_;
     status_.no_active = no_active_;
     status_.handoff_refusal = is_active_state(state_) ? refusal(seen) : std::nullopt;

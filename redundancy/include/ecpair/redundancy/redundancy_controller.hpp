@@ -44,6 +44,7 @@
 #include "ecpair/common/expected.hpp"
 #include "ecpair/master/cycle_extension.hpp"
 #include "ecpair/master/master.hpp"
+#include "ecpair/redundancy/acyclic_master_red_channel.hpp"
 #include "ecpair/redundancy/cmf_writer.hpp"
 #include "ecpair/redundancy/image_history.hpp"
 #include "ecpair/redundancy/pair_parameters.hpp"
@@ -118,6 +119,8 @@ public:
     const ImageHistory& history() const { return history_; }
     // Called on the cycle thread right after a role change took effect; must not block.
     void set_on_role_change(std::function<void(const RoleChange&)> callback) { on_role_change_ = std::move(callback); }
+    // Master-to-master traffic after the CMF (the TAP bridge); set before frames flow, outlives the controller.
+    void set_acyclic_channel(AcyclicMasterRedChannel* channel);
 
     // ---- receive threads: every frame of a link goes through here
     void on_frame(master::LinkRole arrived_on, ConstBytes frame, link::Clock::time_point received_at);
@@ -169,6 +172,7 @@ private:
     std::atomic<RedState> state_{RedState::Inactive};
     std::atomic<RedState> requested_{RedState::Inactive};
     std::function<void(const RoleChange&)> on_role_change_;
+    AcyclicMasterRedChannel* channel_ = nullptr;
 
     // Cycle thread.
     master::ProcessImage* image_ = nullptr;
@@ -177,6 +181,11 @@ private:
     std::uint64_t followed_cycle_ = 0;  // the mirrored cycle the master's count last followed
     std::uint32_t epoch_ = 0;
     std::optional<std::uint64_t> announced_handoff_;
+    struct LeftBus {
+        SteadyTime at;
+        eni::SlaveState master_state;
+    };
+    std::optional<LeftBus> left_bus_;  // when this master last stopped being ACTIVE, and where it left the slaves
     std::uint64_t partner_answers_ = 0;
     std::optional<SteadyTime> partner_last_answer_;
     std::optional<CmfStandbyStatus> partner_status_;

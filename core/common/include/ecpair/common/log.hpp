@@ -5,6 +5,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <spdlog/spdlog.h>
 
@@ -17,5 +18,9 @@ std::shared_ptr<spdlog::logger> logger(const std::string& module);
 // Sets the level of every ecpair logger, present and future ("info", "debug"...).
 // Returns false when the name is not a level.
 bool set_log_level(const std::string& level_name);
+
+// Replaces the sinks of every ecpair logger, present and future (ecpaird
+// under systemd: the journal). Call early, before threads log.
+void set_log_sinks(std::vector<spdlog::sink_ptr> sinks);
 
 }  // namespace ecpair

@@ -50,6 +50,11 @@ enum class EventKind : std::uint8_t {
     ArbitrationSettled,   // a = ArbitrationOutcome, b = our epoch, c = slaves we reach, d = slaves the other reaches (0xFFFF unknown)
     StandbyForced,        // a = 1 forced, 0 released
     NoActiveMaster,       // a = NoActiveReason
+    // ops: the link guard (supervisor/linkguard). b = links (bit 0 MAIN, bit 1 RED), d = errno of a failure
+    LinkGuardLinksDown,   // a = reason (1 cycle stood still, 3 ecpaird stopping), c = ms without a heartbeat
+    LinkGuardResumed,     // c = ms the cycle stood still; the links stay down until ecpaird asks
+    LinkGuardLinksUp,     // a = why (0 ecpaird started, 1 the daemon may drive its links again), c = ms they were down
+    LinkGuardGone,        // the guard process ended while ecpaird runs: a = its exit status
 };
 
 // ---- what the supervisor's events carry (in a..d)

@@ -104,8 +104,8 @@ public:
     // cycle `cycle` (a standby master counts with the partner it follows, so
     // both name a cycle alike).
     void follow_cycle(std::uint64_t cycle) { cycle_to_follow_.store(cycle); }
-    // Slaves that answered the AL-status BRD of the last cycle that had one
-    // complete (nullopt before that, or when no cyclic frame carries a BRD).
+    // Slaves that answered the AL-status BRD of the last cycle whose BRD came
+    // back (nullopt before that, or when no cyclic frame carries a BRD).
     std::optional<std::uint16_t> slaves_reached() const {
         const auto r = slaves_reached_.load();
         return r < 0 ? std::nullopt : std::optional<std::uint16_t>(static_cast<std::uint16_t>(r));

@@ -8,8 +8,13 @@
 //   power-off K | power-on K | break K | repair K
 //   insert-unknown K | remove-unknown K
 //   set-alias K VALUE | set-id K VALUE
+//   impair SIDE LOSS DUP DELAY
 //
 // K is a decimal number; VALUE is decimal or 0x-prefixed hexadecimal, 0..65535.
+// impair: the cable on SIDE (main or red) loses LOSS % and duplicates DUP %
+// of the frames crossing it (either way), and delays those entering the
+// segment by DELAY µs (0..100000): netem's job, for kernels without netem.
+// impair SIDE 0 0 0 ends it.
 // Words are separated by spaces or tabs; a trailing CR is ignored.
 
 #include <cstddef>
@@ -32,6 +37,7 @@ enum class ControlCommand : std::uint8_t {
     RemoveUnknown,
     SetAlias,
     SetId,
+    Impair,
 };
 
 std::string_view to_string(ControlCommand command);  // the request word, "power-off"
@@ -40,6 +46,11 @@ struct ControlRequest {
     ControlCommand command = ControlCommand::Status;
     std::size_t position = 0;  // K, for the commands that take one
     std::uint16_t value = 0;   // VALUE, for set-alias / set-id
+    // impair
+    bool red_side = false;
+    std::uint8_t loss_percent = 0;
+    std::uint8_t duplicate_percent = 0;
+    std::uint32_t delay_us = 0;
 
     friend bool operator==(const ControlRequest&, const ControlRequest&) = default;
 };

@@ -10,6 +10,7 @@
 
 #include "ecpair/common/expected.hpp"
 #include "ecpair/eni/model.hpp"
+#include "ecpair/tap_bridge/tap_bridge.hpp"
 
 namespace ecpair::config {
 
@@ -31,6 +32,11 @@ struct RedundancySettings {
     bool takeover_from_differing_partner = false;
 };
 
+struct LinkGuardSettings {
+    bool enabled = false;
+    std::chrono::milliseconds hang_timeout{50};
+};
+
 struct DaemonSettings {
     std::string name = "ecpaird";
     std::string main_interface;
@@ -46,10 +52,14 @@ struct DaemonSettings {
     std::string control_path;
     std::uint32_t control_mode = 0660;
     std::string control_group;
+    std::chrono::milliseconds control_request_timeout{5000};
+    std::uint32_t control_max_clients = 2048;
     std::uint32_t max_acyclic_frames_per_cycle = 2;
     int realtime_priority = 80;
     std::string log_level = "info";
     RedundancySettings redundancy;
+    LinkGuardSettings link_guard;
+    std::optional<tap_bridge::TapBridgeOptions> tap;  // the TAP bridge, when configured
 };
 
 struct ConfigError {

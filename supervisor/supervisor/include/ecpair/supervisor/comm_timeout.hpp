@@ -47,6 +47,8 @@ public:
     std::chrono::nanoseconds limit() const;
     bool shortened() const { return link_lost_.has_value(); }
     std::chrono::nanoseconds timeout() const { return timeout_; }
+    // The longest silence counted so far (how close the partner came to being called failed).
+    std::chrono::nanoseconds longest_silence() const { return longest_; }
 
 private:
     std::chrono::nanoseconds timeout_;
@@ -54,6 +56,7 @@ private:
     std::chrono::nanoseconds cycle_time_;
     std::optional<TimePoint> last_cycle_;
     std::chrono::nanoseconds silence_{0};
+    std::chrono::nanoseconds longest_{0};
     std::optional<std::chrono::nanoseconds> link_lost_;  // the silence when a link went down
 };
 

@@ -109,6 +109,7 @@ struct SupervisorStatus {
     arbitration::ArbiterState arbitration = arbitration::ArbiterState::Idle;
     std::chrono::nanoseconds comm_timeout{0};
     std::chrono::nanoseconds silence{0};  // INACTIVE: counted towards the comm timeout
+    std::chrono::nanoseconds longest_silence{0};  // the longest silence counted since start (as INACTIVE)
     std::optional<std::uint64_t> handoff_cycle;
     std::optional<master::NoActiveReason> no_active;  // set while no member can be ACTIVE as far as we know
     std::optional<master::HandOffRefusal> handoff_refusal;  // ACTIVE: why a switchover could not start now
