@@ -18,8 +18,9 @@
 //   switch    a switchover
 //   force     the INACTIVE forced to standby for a while, then released
 // After each episode (within a bound): exactly one ACTIVE in OP and a hot
-// standby, no daemon crashed, no slave left OP, both members' images equal
-// for the cycles since. At the end, from ecsim's capture: the longest time
+// standby, no daemon crashed, no slave left OP, no slave's SM watchdog
+// expired (the ENI sets 1 s), both members' images equal for the cycles
+// since. At the end, from ecsim's capture: the longest time
 // the slaves went without process data in each episode, against
 // comm_timeout + 2 cycles. Exit 1 when a functional check failed; with
 // --ci a stale-output bound exceeded is reported but not a failure (CI
@@ -239,6 +240,11 @@ private:
         }
         if (const auto left = pair_.slaves_leaving_op(ecsim_log); left > 0) {
             e.failures.push_back(std::to_string(left) + " slave AL transition(s) out of OP");
+        }
+        // A slave in device emulation keeps OP when its SM watchdog expires,
+        // but loses its outputs: an expiry is a failure of its own.
+        if (const auto expired = pair_.sm_watchdog_expiries(ecsim_log); expired > 0) {
+            e.failures.push_back(std::to_string(expired) + " SM watchdog expiries (outputs cleared)");
         }
         std::this_thread::sleep_for(300ms);
         if (const auto differ = images_differ(200); differ > 0) {

@@ -1,7 +1,141 @@
 #!/usr/bin/env bash
-# README's test command: install, build, run every test. Run as root: the
-# tests labelled `netns` create network namespaces (ctest -LE netns skips them).
+# README's test command, and CI's (.ci/run runs exactly this): install the
+# dependencies, build, run every test. Run as root: the tests labelled
+# `netns` create network namespaces (ctest -LE netns skips them).
+#
+# Stages, each timed (the summary at the end). CI must stay well under
+# 30 minutes on a 2-core machine without ccache, so only the main stage
+# builds everything; the others build what they check:
+#   main     ./build, RelWithDebInfo, warnings as errors: every target, every
+#            test (the .deb package test included)
+#   release  ./build-release, Release (-O3), warnings as errors: the programs
+#            and their libraries as packagers build them (no tests, no
+#            benchmarks: -O3 warnings are what differs from main)
+#   asan     ./build-asan, Debug with ASan + UBSan, warnings as errors: every
+#            test that needs no namespace (netns test binaries are not even
+#            built); this stage is also the proof that Debug builds
+#   tsan     ./build-tsan, TSan (-O1): only the targets of the threaded
+#            components - the unit tests of the cycle and receive threads
+#            (link, master, cable redundancy), store-and-forward and the
+#            mirror (redundancy), the state machine workers (sequencer), the
+#            TAP bridge and the link guard - and, in namespaces, ecpaird and
+#            ecsim under TSan too: a single master to OP (operator service,
+#            event pump, slave monitor), a pair that mirrors and takes over
+#            (link guard heartbeat, topology verifier) and IP over the TAP
+#            bridge (TAP I/O thread). deploy/tsan.supp says what is
+#            suppressed and why.
+# ECPAIR_TEST_STAGES picks stages (default "main release asan tsan"). Every
+# selected stage runs even when an earlier one failed; the exit status is 1
+# if any failed.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash deploy/build.sh
-ctest --test-dir build --output-on-failure -j2
+
+stages=${ECPAIR_TEST_STAGES:-main release asan tsan}
+jobs=$(nproc)
+summary=()
+failed=0
+
+stage_main() {
+  bash deploy/build.sh -DECPAIR_WERROR=ON
+  ctest --test-dir build --output-on-failure -j2
+}
+
+stage_release() {
+  bash deploy/install-deps.sh
+  cmake -S . -B build-release -DCMAKE_BUILD_TYPE=Release -DECPAIR_WERROR=ON -DECPAIR_BUILD_TESTS=OFF \
+    -DECPAIR_BUILD_BENCH=OFF
+  cmake --build build-release -j"$jobs"
+}
+
+stage_asan() {
+  bash deploy/install-deps.sh
+  cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Debug -DECPAIR_WERROR=ON -DECPAIR_SANITIZE=address,undefined \
+    -DECPAIR_BUILD_BENCH=OFF -DECPAIR_BUILD_NETNS_TESTS=OFF
+  cmake --build build-asan -j"$jobs"
+  ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1:detect_stack_use_after_return=1 \
+  UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+    ctest --test-dir build-asan --output-on-failure -j2 -LE 'netns|package'
+}
+
+# The unit test binaries of the threaded components, and the namespace tests
+# that start ecpaird, ecsim and ecpairctl of this build.
+tsan_unit_tests=(link/link_tests master/master_tests master/cable_redundancy_tests redundancy/redundancy_tests
+                 sequencer/sequencer_tests sequencer/sequencer_segment_tests tap_bridge/tap_bridge_tests
+                 linkguard/linkguard_tests)
+tsan_targets=(link_tests master_tests cable_redundancy_tests redundancy_tests sequencer_tests sequencer_segment_tests
+              tap_bridge_tests linkguard_tests master_netns_tests pair_netns_tests tap_bridge_netns_tests
+              ecpaird ecpair-linkguard ecsim ecpairctl)
+
+stage_tsan() {
+  bash deploy/install-deps.sh
+  # -O1: TSan needs no more, and it compiles faster than -O2.
+  cmake -S . -B build-tsan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g" \
+    -DECPAIR_WERROR=ON -DECPAIR_SANITIZE=thread -DECPAIR_BUILD_BENCH=OFF
+  cmake --build build-tsan -j"$jobs" --target "${tsan_targets[@]}"
+  # TSan's shadow memory does not fit a layout randomized with more than
+  # 28 bits (newer kernels' default): run the stage without randomization.
+  local run=()
+  if [ "$(sysctl -n vm.mmap_rnd_bits 2>/dev/null || echo 28)" -gt 28 ]; then run=(setarch "$(uname -m)" -R); fi
+  local reports
+  reports=$(mktemp -d /tmp/ecpair-tsan.XXXXXX)
+  # Every process (the tests and the ecpaird/ecsim they start) writes its
+  # reports to $reports/tsan.<pid>; any report fails the stage.
+  export TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1 log_path=$reports/tsan suppressions=$(pwd)/deploy/tsan.supp"
+  local status=0 t log
+  for t in "${tsan_unit_tests[@]}"; do
+    log=$reports/$(basename "$t").log
+    echo "   $t"
+    "${run[@]}" "build-tsan/tests/$t" >"$log" 2>&1 || { tail -30 "$log"; status=1; }
+  done
+  echo "   netns: master, pair, TAP bridge"
+  "${run[@]}" build-tsan/tests/netns/master_netns_tests \
+    "ecpaird brings a generated segment to OP with cable redundancy and data flows both ways" || status=1
+  "${run[@]}" build-tsan/tests/netns/pair_netns_tests \
+    "the INACTIVE mirrors the ACTIVE's image every cycle and master PD goes both ways" \
+    "a takeover by API from a mirrored OP keeps the slaves in OP without INIT" || status=1
+  "${run[@]}" build-tsan/tests/tap_bridge/tap_bridge_netns_tests \
+    "IP between the masters: ping both ways, TCP with checksums, the TAP sees only IP" || status=1
+  unset TSAN_OPTIONS
+  if compgen -G "$reports/tsan.*" >/dev/null; then
+    cat "$reports"/tsan.* >&2
+    status=1
+  fi
+  rm -rf "$reports"
+  return "$status"
+}
+
+for stage in $stages; do
+  if ! declare -F "stage_$stage" >/dev/null; then
+    echo "unknown stage '$stage' (main release asan tsan)" >&2
+    exit 2
+  fi
+done
+
+# CPU seconds (user + system) of this shell's finished children: a stage's
+# CPU time does not depend on what else the machine runs, its wall time does.
+children_cpu() {
+  local stat
+  stat=$(<"/proc/$$/stat")
+  stat=${stat##*) }  # the fields after the command name
+  read -r -a fields <<<"$stat"
+  echo $(( (fields[13] + fields[14]) / $(getconf CLK_TCK) ))
+}
+
+for stage in $stages; do
+  echo "== stage $stage"
+  started=$(date +%s)
+  cpu_before=$(children_cpu)
+  # A subshell in the background keeps `set -e` in force inside the stage
+  # (it would be off in a condition) while this loop goes on to the next.
+  ("stage_$stage") &
+  status=0
+  wait $! || status=$?
+  elapsed=$(( $(date +%s) - started ))
+  cpu=$(( $(children_cpu) - cpu_before ))
+  if [ "$status" -eq 0 ]; then result=passed; else result="FAILED ($status)"; failed=1; fi
+  summary+=("$(printf '%-8s %3d min %02d s wall, %3d min %02d s CPU  %s' "$stage" $((elapsed / 60)) $((elapsed % 60)) \
+    $((cpu / 60)) $((cpu % 60)) "$result")")
+done
+echo "== stage timings ($(nproc) cores; CPU = user + system of everything the stage ran)"
+printf '   %s\n' "${summary[@]}"
+exit "$failed"

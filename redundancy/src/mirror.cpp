@@ -125,8 +125,7 @@ void Mirror::report_mismatch(master::LinkRole arrived_on) {
     if (mismatch_ == text) return;
     mismatch_ = text;
     logger("mirror")->error("the partner differs, not mirroring it (cold standby): {}", text);
-    events_.push(master::Event{master::EventKind::PartnerMismatch, 0, std::chrono::system_clock::now(),
-                               difference_mask(ours, header->parameters), 0, 0, 0});
+    events_.raise(master::EventKind::PartnerMismatch, difference_mask(ours, header->parameters));
 }
 
 void Mirror::reset() {

@@ -55,8 +55,8 @@ void TopologyVerifier::run(const std::stop_token& stop, const std::vector<master
             if (c.is_mismatch()) logger("redundancy")->error("  {}", c.describe());
         }
     }
-    events_.push(master::Event{master::EventKind::TopologyVerified, 0, std::chrono::system_clock::now(), ok ? 1u : 0u,
-                               static_cast<std::uint32_t>(report->responding), static_cast<std::uint32_t>(present), 0});
+    events_.raise(master::EventKind::TopologyVerified, ok ? 1u : 0u, static_cast<std::uint32_t>(report->responding),
+                  static_cast<std::uint32_t>(present));
 }
 
 }  // namespace ecpair::redundancy

@@ -78,6 +78,7 @@ int Daemon::open() {
         return kBadConfig;
     }
     master_ = std::move(*created);
+    describer_ = std::make_unique<master::EventDescriber>(eni_, &master_->plan());
 
     demo_ = std::make_unique<DemoApplication>(*eni_, settings_.demo, settings_.demo_step_cycles);
     master_->set_cycle_hook([this](master::ProcessImage& image, const master::CycleInfo& info) { on_cycle(image, info); });
@@ -170,8 +171,9 @@ void Daemon::stop_threads() {
 void Daemon::pump_events() {
     while (!stopping_.load()) {
         for (const auto& event : events_.pop_all(std::chrono::milliseconds(200))) {
-            log()->info("event {}: {}", master::to_string(event.kind), master::describe(event));
-            boost::asio::post(io_, [this, message = to_message(event)] { control_server_->publish(message); });
+            auto message = to_message(event, *describer_);
+            log()->info("event {}: {}", message.kind(), message.text());
+            boost::asio::post(io_, [this, message = std::move(message)] { control_server_->publish(message); });
         }
     }
 }

@@ -22,6 +22,7 @@
 #include "ecpair/linkguard/link_guard.hpp"
 #include "ecpair/link/pcap_link.hpp"
 #include "ecpair/master/cycle_thread.hpp"
+#include "ecpair/master/event_describer.hpp"
 #include "ecpair/master/master.hpp"
 #include "ecpair/master/receive_thread.hpp"
 #include "ecpair/redundancy/redundancy_controller.hpp"
@@ -75,6 +76,7 @@ private:
     std::unique_ptr<link::LinkStateMonitor> link_monitor_;
     master::EventQueue events_;
     std::unique_ptr<master::Master> master_;
+    std::unique_ptr<master::EventDescriber> describer_;  // event texts for the log and the operator API
     std::unique_ptr<DemoApplication> demo_;
     std::unique_ptr<sequencer::MasterStateMachine> state_machine_;
     std::unique_ptr<sequencer::SlaveMonitor> slave_monitor_;

@@ -238,11 +238,11 @@ control::ImageHistoryReply OperatorService::image_history(const control::ImageHi
     return reply;
 }
 
-control::EventMessage to_message(const master::Event& event) {
+control::EventMessage to_message(const master::Event& event, const master::EventDescriber& describer) {
     control::EventMessage m;
     m.set_cycle(event.cycle);
     m.set_kind(std::string(master::to_string(event.kind)));
-    m.set_text(master::describe(event));
+    m.set_text(describer.describe(event));
     m.set_unix_time_ms(std::chrono::duration_cast<std::chrono::milliseconds>(event.time.time_since_epoch()).count());
     return m;
 }

@@ -13,6 +13,7 @@
 #include "ecpair/control/control_server.hpp"
 #include "ecpair/linkguard/link_guard.hpp"
 #include "ecpair/master/cycle_thread.hpp"
+#include "ecpair/master/event_describer.hpp"
 #include "ecpair/master/master.hpp"
 #include "ecpair/redundancy/redundancy_controller.hpp"
 #include "ecpair/sequencer/master_state_machine.hpp"
@@ -62,6 +63,6 @@ private:
 };
 
 // The event as the operator API carries it.
-control::EventMessage to_message(const master::Event& event);
+control::EventMessage to_message(const master::Event& event, const master::EventDescriber& describer);
 
 }  // namespace ecpair::daemon

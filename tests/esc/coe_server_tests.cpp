@@ -540,7 +540,8 @@ TEST_CASE("mailbox errors (type 0) for other protocols, bad headers and messages
     CHECK(error_for(mailbox_message(wire::MailboxType::CoE, 123, 4, {})) == 0x0008);  // past the 122 bytes of SM0
     CHECK(error_for(mailbox_message(wire::MailboxType::CoE, 1, 5, {0})) == 0x0006);   // no room for the CoE header
     CHECK(error_for(mailbox_message(wire::MailboxType::CoE, 6, 6, {0x00, 0x20, 0x40, 0x18, 0x10, 0x01})) == 0x0006);
-    CHECK(error_for(mailbox_message(wire::MailboxType::CoE, 10, 7, {0x00, 0x80, 1, 0, 0, 0, 0, 0, 0, 0})) == 0x0004);
+    // CoE service 4 (TxPDO over the mailbox) is not offered.
+    CHECK(error_for(mailbox_message(wire::MailboxType::CoE, 10, 7, {0x00, 0x40, 1, 0, 0, 0, 0, 0, 0, 0})) == 0x0004);
     CHECK(error_for(mailbox_message(wire::MailboxType::CoE, 10, 1, {0x00, 0x00, 0x40, 0x18, 0x10, 0x01, 0, 0, 0, 0})) ==
           0x0005);  // CoE service 0
 }

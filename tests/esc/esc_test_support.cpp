@@ -87,6 +87,27 @@ EscDescription coupler_description() {
     return d;
 }
 
+EscDescription digital_output_description(const std::string& name) {
+    EscDescription d;
+    d.name = name;
+    d.vendor_id = 2;
+    d.product_code = 0x07D83052;
+    d.revision_no = 0x00100000;
+    d.physics = "KK";
+    std::vector<std::uint16_t> pdos;
+    for (std::uint16_t channel = 0; channel < 8; ++channel) {
+        eni::Pdo rx;
+        rx.index = static_cast<std::uint16_t>(0x1600 + channel);
+        rx.sm = 0;
+        rx.fixed = true;
+        rx.entries = {entry(static_cast<std::uint16_t>(0x7000 + 0x10 * channel), 1, 1, "BOOL")};
+        d.process_data.rx_pdos.push_back(rx);
+        pdos.push_back(rx.index);
+    }
+    d.process_data.sync_managers = {sm(0, eni::SmType::Outputs, 0x0F00, 0x44, pdos)};
+    return d;
+}
+
 std::vector<std::uint8_t> le16(std::uint16_t value) {
     return {static_cast<std::uint8_t>(value), static_cast<std::uint8_t>(value >> 8)};
 }

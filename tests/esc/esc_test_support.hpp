@@ -24,6 +24,10 @@ EscDescription drive_description(const std::string& name = "drive");
 EscDescription io_description(const std::string& name = "io");
 // A coupler: no mailbox, no process data, three ports.
 EscDescription coupler_description();
+// An EL2008-style terminal: no mailbox, 8 BOOL outputs in SM0 over the
+// digital output register 0x0F00 (control 0x44: buffered, ECAT writes,
+// watchdog trigger).
+EscDescription digital_output_description(const std::string& name = "EL2008");
 
 std::vector<std::uint8_t> le16(std::uint16_t value);
 std::vector<std::uint8_t> le32(std::uint32_t value);

@@ -2,10 +2,12 @@
 // the 0x0502 interface exactly as SOEM does, writes, reload, checksum, and
 // every shared ENI file.
 
+#include <algorithm>
 #include <filesystem>
 
 #include <catch2/catch.hpp>
 
+#include "ecpair/common/bytes.hpp"
 #include "ecpair/eni/loader.hpp"
 #include "esc_test_support.hpp"
 #include "soem_sii_reader.hpp"
@@ -89,7 +91,7 @@ TEST_CASE("every category parses back the way SOEM reads it") {
     const std::uint32_t general = sii.find(30);
     REQUIRE(general != 0);
     CHECK(sii.byte(general + 5) == 1);     // name string index
-    CHECK(sii.byte(general + 7) == 0x01);  // CoE details: SDO
+    CHECK(sii.byte(general + 7) == 0x2F);  // CoE details: SDO, SDO Information, PDO assign/config, CompleteAccess
     CHECK(sii.byte(general + 8) == 0x01);  // FoE
     CHECK(sii.byte(general + 9) == 0x00);  // no EoE
     CHECK((sii.byte(general + 0x0D) & 0x02) == 0);  // LRW allowed
@@ -276,4 +278,64 @@ TEST_CASE("every shared ENI gives ESCs whose SII reads back to the slave's ident
     }
     CHECK(files >= 12);
     CHECK(slaves >= 35);
+}
+
+TEST_CASE("the SII advertises the SyncManagers the ENI's InitCmds write, and the slave checks against them") {
+    // An older TwinCAT export writes the mailbox SMs with the ECAT event bit
+    // (0x36/0x32) and has no Sm0/Sm1 elements: a real slave's ESI (and so its
+    // SII) said 0x36/0x32, so the emulated one does too.
+    const auto loaded = eni::load_eni_file(std::string(ECPAIR_TEST_DATA_DIR) + "/eni_extra/twincat_mailbox_irq_2slaves.xml");
+    REQUIRE(loaded.has_value());
+    const auto& servo = loaded.value()->slaves.at(1);
+    const auto description = EscDescription::from_eni(servo);
+    REQUIRE(description.sm_init_writes.size() == 4);
+    CHECK(description.sm_init_writes[0].control == 0x36);
+    CHECK(description.sm_init_writes[1].control == 0x32);
+
+    Line line({description});
+    line.assign_station_addresses();
+    SoemSiiReader sii(line, kFirstStation);
+    const auto sms = sii.sync_managers();
+    REQUIRE(sms.size() == 4);
+    CHECK(sms[0].start == 0x1000);
+    CHECK(sms[0].length == 128);
+    CHECK(sms[0].control == 0x36);
+    CHECK(sms[1].start == 0x1080);
+    CHECK(sms[1].control == 0x32);
+    CHECK(sms[2].control == 0x64);
+    CHECK(sms[2].length == 6);
+    CHECK(sms[3].control == 0x20);
+    CHECK(sms[3].length == 6);
+
+    const auto mailbox = [](std::uint8_t out_control, std::uint8_t in_control) {
+        return bytes({0x00, 0x10, 0x80, 0x00, out_control, 0x00, 0x01, 0x00, 0x80, 0x10, 0x80, 0x00, in_control, 0x00,
+                      0x01, 0x00});
+    };
+    SECTION("what the InitCmds write is accepted") {
+        REQUIRE(line.fpwr(kFirstStation, 0x0800, mailbox(0x36, 0x32)) == 1);
+        REQUIRE(line.fpwr(kFirstStation, 0x0120, le16(0x0002)) == 1);
+        CHECK(line.fprd(kFirstStation, 0x0130, 1)[0] == 0x02);
+    }
+    SECTION("a control byte the device does not advertise is still refused (0x0016)") {
+        REQUIRE(line.fpwr(kFirstStation, 0x0800, mailbox(0x26, 0x22)) == 1);
+        REQUIRE(line.fpwr(kFirstStation, 0x0120, le16(0x0002)) == 1);
+        CHECK(line.fprd(kFirstStation, 0x0130, 1)[0] == 0x11);
+        CHECK(load_le<std::uint16_t>(line.fprd(kFirstStation, 0x0134, 2), 0) == 0x0016);
+    }
+}
+
+TEST_CASE("the bootstrap mailbox comes from the INIT -> BOOT InitCmds") {
+    const auto loaded = eni::load_eni_file(std::string(ECPAIR_TEST_ENI_DIR) + "/twincat_kpierczy_5slaves.xml");
+    REQUIRE(loaded.has_value());
+    const auto description = EscDescription::from_eni(loaded.value()->slaves.at(0));
+    const auto bootstrap = std::count_if(description.sm_init_writes.begin(), description.sm_init_writes.end(),
+                                         [](const SmInitWrite& w) { return w.bootstrap; });
+    CHECK(bootstrap == 2);
+    Line line({description});
+    line.assign_station_addresses();
+    SoemSiiReader sii(line, kFirstStation);
+    CHECK(sii.word(0x14) == 0x4000);  // bootstrap receive mailbox offset
+    CHECK(sii.word(0x15) == 0x0400);  // and size, as "set sm 0 (bootstrap out)" writes it
+    CHECK(sii.word(0x18) == 0x4000);  // the standard mailbox, as "set sm 0 (mailbox out)" writes it
+    CHECK(sii.word(0x19) == 0x0114);
 }

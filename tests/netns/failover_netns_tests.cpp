@@ -4,9 +4,13 @@
 // integrator would - kills a controller, pulls a cable, breaks the line
 // twice, switches over fifty times - and then checks what matters on the
 // machine: exactly one ACTIVE master, the slaves never left OP (ecsim logs
-// every AL transition), and process data kept reaching the slaves (ecsim's
+// every AL transition), no slave's SM watchdog expired (ecsim emulates the
+// ESC's process data watchdog: outputs cleared, a slave with a stack falls
+// to SAFEOP+ERR 0x001B), and process data kept reaching the slaves (ecsim's
 // capture, read back: who sent process data when, which cycles the masters
-// numbered).
+// numbered). The shared ENI sets a 1 s SM watchdog (divider 2498, time
+// 10000); the tree ENI of the last test leaves the ESCs' 100 ms default, and
+// its takeovers must fit into that.
 
 #include <signal.h>
 
@@ -24,6 +28,10 @@ using ecpair::control::StatusReply;
 namespace {
 
 const std::filesystem::path kEni = std::string(ECPAIR_TEST_ENI_DIR) + "/twincat_kpierczy_5slaves.xml";
+// No watchdog InitCmds: every ESC keeps the 100 ms after reset; an EL7201
+// with a stack and an EL2008 in device emulation have output SMs that arm it.
+const std::filesystem::path kTree = std::string(ECPAIR_TEST_DATA_DIR) + "/eni_extra/tree_ek1122_7slaves.xml";
+constexpr double kDefaultSmWatchdogUs = 100'000;  // (2498 + 2) x 40 ns x 1000
 
 PairSetup pair_setup() {
     PairSetup setup;
@@ -95,6 +103,7 @@ TEST_CASE("kill -9 of the ACTIVE with its links down: the standby takes over hot
     WARN(timeout->text());
     std::this_thread::sleep_for(500ms);
     CHECK(pair.slaves_leaving_op(ecsim_log) == 0);
+    CHECK(pair.sm_watchdog_expiries(ecsim_log) == 0);
 
     const auto capture = pair.capture();
     const auto handovers = capture.handovers();
@@ -187,6 +196,7 @@ TEST_CASE("every cable pulled alone: no role changes, no cycle without a master,
     CHECK_FALSE(is_active(standby.status()));
     CHECK(active.status().supervisor().takeovers() + standby.status().supervisor().takeovers() == takeovers_before);
     CHECK(pair.slaves_leaving_op(ecsim_log) == 0);
+    CHECK(pair.sm_watchdog_expiries(ecsim_log) == 0);
     const auto capture = pair.capture();
     CHECK(capture.handovers().empty());
     WARN("longest gap in process data at the slaves while cables were pulled: " << capture.longest_gap_us() / 1000.0
@@ -225,6 +235,7 @@ TEST_CASE("a double line break gives each half its ACTIVE - on repair the half r
     CHECK(m1_events.wait_for("arbitration-settled", "standing by", 2s));
     CHECK(m2.wait_for(all_slaves_op, 5s));
     CHECK(pair.slaves_leaving_op(ecsim_log) == 0);
+    CHECK(pair.sm_watchdog_expiries(ecsim_log) == 0);
 }
 
 TEST_CASE("fifty switchovers in a row: every cycle numbered by exactly one master, the slaves stay in OP",
@@ -242,6 +253,7 @@ TEST_CASE("fifty switchovers in a row: every cycle numbered by exactly one maste
     }
     pair.settled();
     CHECK(pair.slaves_leaving_op(ecsim_log) == 0);
+    CHECK(pair.sm_watchdog_expiries(ecsim_log) == 0);
     const auto capture = pair.capture();
     std::size_t handovers = capture.handovers().size();
     CHECK(handovers >= 50);
@@ -303,4 +315,38 @@ TEST_CASE("a member forced to standby does not take over when the ACTIVE fails, 
 
     REQUIRE(standby.force_standby(false).empty());
     CHECK(standby.wait_for(is_active, 5s));
+}
+
+TEST_CASE("against the ESCs' default 100 ms SM watchdog: kill -9 and ten switchovers leave every slave in OP with its "
+          "outputs",
+          "[netns][failover][watchdog]") {
+    auto setup = pair_setup();
+    setup.eni = kTree;
+    SupervisedPair pair(setup, "ecpair-failover");
+    int a = pair.settled();
+    const auto ecsim_log = pair.ecsim().log().size();
+    std::this_thread::sleep_for(300ms);
+    for (int i = 0; i < 10; ++i) {
+        INFO("switchover " << i);
+        a = pair.settled();
+        REQUIRE(pair.member(a).switchover().empty());
+        REQUIRE(pair.member(1 - a).wait_for(is_active, 5s));
+    }
+    a = pair.settled();
+    auto& standby = pair.member(1 - a);
+    pair.kill(a);  // its link guard takes its links down
+    REQUIRE(standby.wait_for([](const StatusReply& s) { return is_active(s) && all_slaves_op(s); }, 10s));
+    std::this_thread::sleep_for(500ms);  // five watchdog times: an expiry would have happened
+    INFO(pair.ecsim().log().substr(ecsim_log));
+    CHECK(pair.slaves_leaving_op(ecsim_log) == 0);
+    CHECK(pair.sm_watchdog_expiries(ecsim_log) == 0);
+
+    const auto capture = pair.capture();
+    const auto handovers = capture.handovers();
+    CHECK(handovers.size() >= 11);
+    double longest = 0;
+    for (const auto& h : handovers) longest = std::max(longest, h.gap_us);
+    WARN("longest process data gap at a handover (10 switchovers, 1 kill -9): " << longest / 1000.0 << " ms of "
+                                                                                 << kDefaultSmWatchdogUs / 1000.0);
+    CHECK(longest < kDefaultSmWatchdogUs);
 }

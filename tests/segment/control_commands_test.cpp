@@ -17,7 +17,7 @@ TEST_CASE("status reports sides, counters, breaks and every slave", "[control]")
                                          "hop_limit=0 broken=none | 1 name=\"S1\" vendor=0x00000002"));
     CHECK_THAT(status, Catch::Contains("| 2 name=\"S2\""));
     CHECK_THAT(status,
-               Catch::Contains("addr=0x0000 alias=0x0000 al=INIT powered=yes unknown=no ports=0:up/open,1:up/open"));
+               Catch::Contains("addr=0x0000 alias=0x0000 al=INIT code=0x0000 powered=yes unknown=no ports=0:up/open,1:up/open"));
     CHECK(status.find('\n') == std::string::npos);
 }
 

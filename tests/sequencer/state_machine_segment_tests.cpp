@@ -83,6 +83,42 @@ TEST_CASE("INIT -> OP -> INIT with real ENIs including their CoE InitCmds", "[se
     up_and_down(load_eni_copy(name));
 }
 
+// Issue 11, findings 1 and 2, and a tree (item 3): synthetic ENIs of the
+// shapes real configurators export (tests/data/eni_extra).
+TEST_CASE("INIT -> OP -> INIT with what real configurators export for real slaves", "[sequencer][sm][segment][fidelity]") {
+    // twincat_mailbox_irq: mailbox SMs written with 0x36/0x32 (ECAT event bit);
+    // digital_io_device_emulation: an EL2008 whose output SM is set only in SAFEOP -> OP;
+    // tree_ek1122: an EK1122 junction with branches on ports D, B and C.
+    const auto name = GENERATE(as<std::string>{}, "eni_extra/twincat_mailbox_irq_2slaves.xml",
+                               "eni_extra/digital_io_device_emulation_3slaves.xml", "eni_extra/tree_ek1122_7slaves.xml");
+    up_and_down(load_eni_copy(name));
+}
+
+TEST_CASE("The EL2008 is in SAFEOP with its output SM disabled and in OP with it enabled", "[sequencer][sm][segment][fidelity]") {
+    const std::shared_ptr<const eni::EniConfig> eni = load_eni_copy("eni_extra/digital_io_device_emulation_3slaves.xml");
+    SimulatedBus sim(*eni);
+    VirtualClock clock;
+    MasterStateMachine machine(eni, sim.bus, {}, nullptr, clock);
+    const auto sm0_enabled = [&] { return (sim.segment.slave(2).read_memory(0x0806, 1).at(0) & 0x01) != 0; };
+    auto error = run_to(machine, MasterState::Safeop);
+    INFO((error ? error->message : std::string()));
+    REQUIRE_FALSE(error);
+    CHECK(al_state(sim, 2) == 4);
+    CHECK_FALSE(sm0_enabled());
+    error = run_to(machine, MasterState::Op);
+    REQUIRE_FALSE(error);
+    CHECK(al_state(sim, 2) == 8);
+    CHECK(sm0_enabled());
+    error = run_to(machine, MasterState::Safeop);
+    REQUIRE_FALSE(error);
+    CHECK(al_state(sim, 2) == 4);
+    CHECK_FALSE(sm0_enabled());
+    // Both terminals run in device emulation (the coupler, without process data, needs no checks either);
+    // nothing refused a request.
+    for (std::size_t p = 2; p <= 3; ++p) CHECK((sim.segment.slave(p).read_memory(0x0141, 1).at(0) & 0x01) == 0x01);
+    for (std::size_t p = 1; p <= 3; ++p) CHECK(sim.segment.slave(p).al_status_code() == 0);
+}
+
 TEST_CASE("The DC start time written during PS is in the future of the reference clock, on a cycle boundary",
           "[sequencer][sm][segment][dc]") {
     const std::shared_ptr<const eni::EniConfig> eni =

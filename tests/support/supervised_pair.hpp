@@ -62,6 +62,10 @@ public:
     // The AL transitions out of OP the simulated slaves logged since `from`
     // (an offset into ecsim's log).
     std::size_t slaves_leaving_op(std::size_t from) const;
+    // The SM (process data) watchdog expiries ecsim logged since `from`: a
+    // slave in device emulation keeps OP when its watchdog expires, but its
+    // outputs are cleared, so "never left OP" alone does not prove it.
+    std::size_t sm_watchdog_expiries(std::size_t from) const;
     // Stops ecsim and reads back its capture.
     SegmentCapture capture();
 

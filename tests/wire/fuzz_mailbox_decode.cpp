@@ -1,13 +1,18 @@
 // Fuzz target: a mailbox message as a slave or master might put it in a
-// sync manager: header, CoE header, SDO in both directions. Decoded SDO
-// messages must re-encode without writing past their own size.
+// sync manager: header, CoE header, SDO in both directions, SDO
+// Information requests and responses. Decoded SDO messages must re-encode
+// without writing past their own size; decoded SDO Information requests
+// must re-encode to a request that decodes to the same.
 
 #include <cstdint>
 #include <cstdlib>
 #include <vector>
 
+#include <variant>
+
 #include "ecpair/wire/coe.hpp"
 #include "ecpair/wire/mailbox.hpp"
+#include "ecpair/wire/sdo_information.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     const ecpair::ConstBytes in(data, size);
@@ -20,6 +25,23 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     }
     const auto coe = ecpair::wire::CoeHeader::decode(body);
     if (!coe) return 0;
+    if (coe->service == ecpair::wire::CoeService::SdoInformation) {
+        const auto info = body.subspan(ecpair::wire::CoeHeader::kSize);
+        const auto request = ecpair::wire::decode_sdo_info_request(info);
+        if (const auto* r = std::get_if<ecpair::wire::SdoInfoRequest>(&request)) {
+            const auto again = ecpair::wire::decode_sdo_info_request(ecpair::wire::encode_sdo_info_request(*r));
+            const auto* same = std::get_if<ecpair::wire::SdoInfoRequest>(&again);
+            if (same == nullptr || !(*same == *r)) std::abort();
+        }
+        if (info.size() >= ecpair::wire::SdoInfoHeader::kSize) {
+            const auto service_data = info.subspan(ecpair::wire::SdoInfoHeader::kSize);
+            (void)ecpair::wire::OdListResponse::decode(service_data);
+            (void)ecpair::wire::ObjectDescription::decode(service_data);
+            (void)ecpair::wire::EntryDescription::decode(service_data);
+            (void)ecpair::wire::SdoInfoError::decode(service_data);
+        }
+        return 0;
+    }
     for (const bool response : {false, true}) {
         const auto sdo = ecpair::wire::SdoMessage::decode(body.subspan(ecpair::wire::CoeHeader::kSize), response);
         if (!sdo) continue;

@@ -9,6 +9,8 @@
 #include <cctype>
 #include <utility>
 
+#include <fmt/format.h>
+
 #include "ecpair/common/hex.hpp"
 
 namespace ecpair::eni::detail {
@@ -48,9 +50,11 @@ std::string_view trim(std::string_view text) {
     return text;
 }
 
+// Formatted rather than concatenated: GCC 12 at -O3 reports a false
+// -Wrestrict in the inlined operator+(const char*, std::string&&).
 std::string quoted(std::string_view text) {
-    if (text.size() <= kMaxQuotedLength) return "'" + std::string(text) + "'";
-    return "'" + std::string(text.substr(0, kMaxQuotedLength)) + "...'";
+    if (text.size() <= kMaxQuotedLength) return fmt::format("'{}'", text);
+    return fmt::format("'{}...'", text.substr(0, kMaxQuotedLength));
 }
 
 std::optional<std::int64_t> parse_integer(std::string_view text) {

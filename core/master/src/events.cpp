@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include "ecpair/master/frame_tracker.hpp"
 #include "ecpair/wire/al_status.hpp"
 
 namespace ecpair::master {
@@ -71,6 +72,22 @@ std::string_view port_reason_text(std::uint32_t reason) {
         case kPortOpenBlocked: return "blocked port opened again";
         default: return "operator request";
     }
+}
+
+std::string lost_frame_text(const Event& e) {
+    const auto d = LostFrameDetail::decode(e);
+    switch (static_cast<FrameKind>(e.a)) {
+        case FrameKind::Cyclic:
+            return fmt::format("cyclic frame {} ({}) lost ({}): this cycle's inputs keep their last values",
+                               e.b + 1, state_name(d.master_state), d.copies_text());
+        case FrameKind::Acyclic:
+            return fmt::format("acyclic frame lost ({} at 0x{:08x}, {} bytes, {} datagram(s); {}): its requests are sent "
+                               "again until their timeout",
+                               wire::to_string(d.first_command), d.first_address, d.first_length, d.datagrams,
+                               d.copies_text());
+        case FrameKind::MasterRed: break;
+    }
+    return fmt::format("frame lost (kind {}, index {})", e.a, e.b);
 }
 
 std::string ms_text(std::uint32_t ms) { return fmt::format("{} ms", ms); }
@@ -245,7 +262,7 @@ std::string describe(const Event& e) {
         case EventKind::CyclicWkcError:
             return prefix + fmt::format("cyclic WKC error in frame {} datagram {}: expected {}, received {}", e.a, e.b,
                                         e.c, e.d);
-        case EventKind::FrameLost: return prefix + fmt::format("frame lost (kind {}, index {})", e.a, e.b);
+        case EventKind::FrameLost: return prefix + lost_frame_text(e);
         case EventKind::LineBreak:
             return prefix + (e.b != 0 ? fmt::format("line break after slave {} (slaves reachable from MAIN: {})", e.a, e.a)
                                       : std::string("line break"));
@@ -363,7 +380,52 @@ std::string describe(const Event& e) {
     return prefix + "unknown event";
 }
 
+namespace {
+
+constexpr std::uint32_t kSentMain = 1u << 28;
+constexpr std::uint32_t kSentRed = 1u << 29;
+constexpr std::uint32_t kMainReturned = 1u << 30;
+constexpr std::uint32_t kRedReturned = 1u << 31;
+constexpr std::uint32_t kLengthMask = 0x7FF;
+
+}  // namespace
+
+void LostFrameDetail::encode_into(Event& event) const {
+    event.c = static_cast<std::uint32_t>(first_command) | std::uint32_t{datagrams} << 8 |
+              (std::uint32_t{first_length} & kLengthMask) << 16 | (sent_main ? kSentMain : 0u) |
+              (sent_red ? kSentRed : 0u) | (main_returned ? kMainReturned : 0u) | (red_returned ? kRedReturned : 0u);
+    // A cyclic frame's content is in the plan: d says the state it was built for.
+    event.d = event.a == static_cast<std::uint32_t>(FrameKind::Cyclic) ? std::uint32_t{master_state} : first_address;
+}
+
+std::string LostFrameDetail::copies_text() const {
+    const auto one = [](bool sent, bool returned) { return !sent ? "not sent" : returned ? "came back" : "missing"; };
+    return fmt::format("MAIN copy {}, RED copy {}", one(sent_main, main_returned), one(sent_red, red_returned));
+}
+
+LostFrameDetail LostFrameDetail::decode(const Event& event) {
+    LostFrameDetail d;
+    const bool cyclic = event.a == static_cast<std::uint32_t>(FrameKind::Cyclic);
+    d.master_state = cyclic ? static_cast<std::uint8_t>(event.d) : std::uint8_t{0};
+    d.first_address = cyclic ? 0 : event.d;
+    d.first_command = static_cast<wire::Command>(event.c & 0xFF);
+    d.datagrams = static_cast<std::uint8_t>(event.c >> 8);
+    d.first_length = static_cast<std::uint16_t>((event.c >> 16) & kLengthMask);
+    d.sent_main = (event.c & kSentMain) != 0;
+    d.sent_red = (event.c & kSentRed) != 0;
+    d.main_returned = (event.c & kMainReturned) != 0;
+    d.red_returned = (event.c & kRedReturned) != 0;
+    return d;
+}
+
 EventQueue::EventQueue(std::size_t capacity) : ring_(capacity) {}
+
+void EventQueue::raise(EventKind kind, std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t d) {
+    const auto* counter = cycle_counter_.load();
+    push(Event{kind, counter != nullptr ? counter->load() : 0, std::chrono::system_clock::now(), a, b, c, d});
+}
+
+void EventQueue::attach_cycle_counter(const std::atomic<std::uint64_t>* counter) { cycle_counter_.store(counter); }
 
 void EventQueue::push(const Event& event) {
     {

@@ -90,6 +90,8 @@ Master::Master(std::shared_ptr<const eni::EniConfig> eni, const MasterOptions& o
       acyclic_(options.max_acyclic_frames_per_cycle),
       slaves_(eni_->slaves.size()),
       topology_watch_(exchange_.plan()) {
+    // Events raised by the workers (state machine, monitors) carry this master's cycle.
+    events_.attach_cycle_counter(&cycle_counter_);
     snapshot_.inputs.assign(image_.inputs().size(), 0);
     snapshot_.outputs.assign(image_.outputs().size(), 0);
     in_flight_.reserve(256);
@@ -106,6 +108,7 @@ Master::Master(std::shared_ptr<const eni::EniConfig> eni, const MasterOptions& o
 }
 
 Master::~Master() {
+    events_.attach_cycle_counter(nullptr);
     acyclic_.refuse(bus::BusErrc::Cancelled);
     acyclic_.fail_in_flight(bus::BusErrc::Cancelled);
 }
@@ -270,7 +273,13 @@ void Master::complete_previous_cycle(link::Clock::time_point now) {
             if (f.kind == FrameKind::Cyclic) all_complete = false;
             if (!lost_reported) {
                 lost_reported = true;
-                raise(EventKind::FrameLost, static_cast<std::uint32_t>(f.kind), f.index);
+                Event event{EventKind::FrameLost, cycle_, std::chrono::system_clock::now(),
+                            static_cast<std::uint32_t>(f.kind), f.index, 0, 0};
+                LostFrameDetail detail = f.detail;
+                detail.main_returned = main_copy.path != CopyPath::Missing;
+                detail.red_returned = red_copy.path != CopyPath::Missing;
+                detail.encode_into(event);
+                events_.push(event);
             }
             if (f.kind == FrameKind::Acyclic) acyclic_.complete(f.index, nullptr, now);
             continue;
@@ -470,7 +479,21 @@ void Master::send_copies(FrameKind kind, std::uint16_t index, Bytes frame, std::
         set_source(LinkRole::Red);
         sent_red = send_on(LinkRole::Red, frame);
     }
-    sent_this_cycle_.push_back(InFlight{id, kind, index, sent_main, sent_red, cycle_});
+    LostFrameDetail detail;
+    detail.sent_main = sent_main;
+    detail.sent_red = sent_red;
+    detail.master_state = static_cast<std::uint8_t>(state_.load());
+    if (kind == FrameKind::Acyclic) {
+        if (const auto view = wire::ConstFrameView::parse(frame)) {
+            for (const auto d : *view) {
+                if (detail.datagrams++ > 0) continue;
+                detail.first_command = d.command();
+                detail.first_address = d.address();
+                detail.first_length = static_cast<std::uint16_t>(d.length());
+            }
+        }
+    }
+    sent_this_cycle_.push_back(InFlight{id, kind, index, sent_main, sent_red, cycle_, detail});
     stats_.frames_sent.fetch_add(1, std::memory_order_relaxed);
 }
 

@@ -441,14 +441,7 @@ SequenceError MasterStateMachine::from_init_cmd(const InitCmdError& error, eni::
 }
 
 void MasterStateMachine::raise(master::EventKind kind, std::uint32_t a, std::uint32_t b, std::uint32_t c) {
-    if (!events_) return;
-    master::Event event;
-    event.kind = kind;
-    event.time = std::chrono::system_clock::now();
-    event.a = a;
-    event.b = b;
-    event.c = c;
-    events_->push(event);
+    if (events_) events_->raise(kind, a, b, c);
 }
 
 }  // namespace ecpair::sequencer

@@ -31,7 +31,7 @@ std::uint64_t SlaveMonitor::rounds() const {
 }
 
 void SlaveMonitor::raise(master::EventKind kind, std::uint32_t a, std::uint32_t b, std::uint32_t c) {
-    if (events_) events_->push(master::Event{kind, 0, std::chrono::system_clock::now(), a, b, c, 0});
+    if (events_) events_->raise(kind, a, b, c);
 }
 
 void SlaveMonitor::poll_once() {

@@ -168,6 +168,24 @@ std::optional<AlOutcome> al_sm_change_transition(const AlOutcome& current, AlCon
     return std::nullopt;
 }
 
+std::optional<AlOutcome> al_local_error_transition(const AlOutcome& current, AlState fall_to, std::uint16_t code) {
+    if (static_cast<std::uint8_t>(current.status.state) <= static_cast<std::uint8_t>(fall_to) ||
+        current.status.state == AlState::Boot) {
+        return std::nullopt;
+    }
+    AlOutcome next;
+    next.status.state = fall_to;
+    next.status.error = true;
+    next.status_code = code;
+    return next;
+}
+
+AlOutcome al_device_emulation_transition(AlControlWord request) {
+    AlOutcome next;
+    next.status.state = static_cast<AlState>(request.requested);
+    return next;
+}
+
 AlStateMachine::AlStateMachine(EscMemory& memory, std::shared_ptr<spdlog::logger> log, std::string owner)
     : memory_(memory), log_(std::move(log)), owner_(std::move(owner)) {}
 
@@ -185,6 +203,15 @@ bool AlStateMachine::on_control_written(const AlChecks& checks) {
 
 bool AlStateMachine::on_sm_activation_changed(const AlChecks& checks) {
     return apply(al_sm_change_transition(current_, last_request_, checks), "SyncManager change");
+}
+
+bool AlStateMachine::on_local_error(AlState fall_to, std::uint16_t code, std::string_view cause) {
+    return apply(al_local_error_transition(current_, fall_to, code), cause);
+}
+
+bool AlStateMachine::on_control_written_device_emulation() {
+    last_request_ = AlControlWord::decode(memory_.load<std::uint16_t>(reg::kAlControl));
+    return apply(al_device_emulation_transition(last_request_), "AL control, device emulation");
 }
 
 bool AlStateMachine::apply(const std::optional<AlOutcome>& outcome, std::string_view cause) {

@@ -26,6 +26,13 @@
 // mailbox configuration drops it to INIT+ERR (0x0016), a broken process data
 // configuration drops SAFEOP/OP to PREOP+ERR.
 //
+// al_local_error_transition() is the stack giving up a state on its own
+// (the SyncManager watchdog expired in OP: SAFEOP+ERR 0x001B).
+//
+// al_device_emulation_transition() is the ESC without a stack (0x0141 b0):
+// AL status takes the state AL control asks for, with no check, no error
+// and no device ID.
+//
 // AlStateMachine applies the results to 0x0130/0x0134, raises the AL status
 // event (0x0210 b3) and logs every change.
 
@@ -53,6 +60,7 @@ inline constexpr std::uint16_t kInvalidBootstrapMailbox = 0x0015;
 inline constexpr std::uint16_t kInvalidMailbox = 0x0016;
 inline constexpr std::uint16_t kInvalidOutputs = 0x001D;
 inline constexpr std::uint16_t kInvalidInputs = 0x001E;
+inline constexpr std::uint16_t kSmWatchdog = 0x001B;
 }  // namespace al_code
 
 struct AlStatusWord {
@@ -99,6 +107,9 @@ std::optional<AlOutcome> al_control_transition(const AlOutcome& current, AlContr
 // nullopt: nothing to do.
 std::optional<AlOutcome> al_sm_change_transition(const AlOutcome& current, AlControlWord last_request,
                                                  const AlChecks& checks);
+// nullopt: the slave is not in a state above `fall_to` (nothing to give up).
+std::optional<AlOutcome> al_local_error_transition(const AlOutcome& current, AlState fall_to, std::uint16_t code);
+AlOutcome al_device_emulation_transition(AlControlWord request);
 
 class AlStateMachine {
 public:
@@ -110,6 +121,10 @@ public:
     bool on_control_written(const AlChecks& checks);
     // The master changed a SyncManager activation. Returns true when the state changed.
     bool on_sm_activation_changed(const AlChecks& checks);
+    // The stack leaves its state on its own (e.g. the SM watchdog). Returns true when the state changed.
+    bool on_local_error(AlState fall_to, std::uint16_t code, std::string_view cause);
+    // Device emulation: the master wrote AL control. Returns true when the state changed.
+    bool on_control_written_device_emulation();
 
     AlState state() const { return current_.status.state; }
 

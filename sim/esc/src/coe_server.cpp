@@ -8,6 +8,8 @@
 
 #include "ecpair/common/log.hpp"
 #include "ecpair/wire/coe.hpp"
+#include "ecpair/wire/sdo_information.hpp"
+#include "sdo_information_server.hpp"
 #include "sdo_server.hpp"
 
 namespace ecpair::sim {
@@ -26,6 +28,11 @@ std::size_t sdo_reply_capacity(std::size_t mailbox_in_size) {
     return mailbox_in_size > kCoeOverhead ? mailbox_in_size - kCoeOverhead : 0;
 }
 
+std::size_t information_fragment_capacity(std::size_t mailbox_in_size) {
+    const std::size_t overhead = kCoeOverhead + wire::SdoInfoHeader::kSize;
+    return mailbox_in_size > overhead ? mailbox_in_size - overhead : 0;
+}
+
 // Read before the header is checked: a retransmission is one even when its header is bad.
 std::uint8_t counter_of(ConstBytes request) { return static_cast<std::uint8_t>((request[5] >> 4) & 0x07); }
 
@@ -35,6 +42,7 @@ CoeServer::CoeServer(ObjectDictionary dictionary, CoeSlaveContext& slave, std::s
     : dictionary_(std::move(dictionary)),
       slave_(slave),
       sdo_(std::make_unique<SdoServer>(dictionary_, slave_, sdo_reply_capacity(mailbox_in_size))),
+      information_(std::make_unique<SdoInformationServer>(dictionary_, information_fragment_capacity(mailbox_in_size))),
       reply_(mailbox_in_size) {
     if (mailbox_in_size < kCoeOverhead + wire::SdoMessage::kHeaderSize) {
         logger("esc")->warn("CoE server with an SM1 of {} bytes: too short for any SDO reply", mailbox_in_size);
@@ -53,6 +61,7 @@ void CoeServer::on_request(ConstBytes request, MailboxOutbox& outbox) {
         return;
     }
     last_request_counter_ = counter;
+    information_->reset();  // a new request ends a fragmented SDO Information response
 
     const auto header = wire::MailboxHeader::decode(request);
     if (!header) return reply_error(kInvalidSize, outbox);  // longer than the mailbox
@@ -66,6 +75,10 @@ void CoeServer::on_request(ConstBytes request, MailboxOutbox& outbox) {
 void CoeServer::handle_coe(ConstBytes body, MailboxOutbox& outbox) {
     const auto coe = wire::CoeHeader::decode(body);
     if (!coe) return reply_error(kSizeTooShort, outbox);
+    if (coe->service == wire::CoeService::SdoInformation) {
+        information_->handle(body.subspan(wire::CoeHeader::kSize));
+        return send_information_fragment(outbox);
+    }
     if (coe->service != wire::CoeService::SdoRequest) {
         const bool no_service = static_cast<unsigned>(coe->service) == 0;
         return reply_error(no_service ? kInvalidHeader : kServiceNotSupported, outbox);
@@ -90,6 +103,13 @@ void CoeServer::handle_coe(ConstBytes body, MailboxOutbox& outbox) {
                                                                    : wire::CoeService::SdoResponse;
     wire::CoeHeader{0, service}.encode(Bytes(reply_).subspan(wire::MailboxHeader::kSize));
     reply->encode(Bytes(reply_).subspan(kCoeOverhead));
+    send(wire::MailboxType::CoE, wire::CoeHeader::kSize + size, outbox);
+}
+
+void CoeServer::send_information_fragment(MailboxOutbox& outbox) {
+    if (!information_->has_fragment()) return;
+    wire::CoeHeader{0, wire::CoeService::SdoInformation}.encode(Bytes(reply_).subspan(wire::MailboxHeader::kSize));
+    const std::size_t size = information_->next_fragment(Bytes(reply_).subspan(kCoeOverhead));
     send(wire::MailboxType::CoE, wire::CoeHeader::kSize + size, outbox);
 }
 
@@ -119,11 +139,16 @@ void CoeServer::post_reply(MailboxOutbox& outbox) {
 }
 
 void CoeServer::on_reply_read(MailboxOutbox& outbox) {
-    if (reply_waiting_) post_reply(outbox);
+    if (reply_waiting_) {
+        post_reply(outbox);
+    } else {
+        send_information_fragment(outbox);  // the next fragment of an SDO Information response, if any
+    }
 }
 
 void CoeServer::on_stopped() {
     sdo_->reset();
+    information_->reset();
     reply_size_ = 0;
     reply_waiting_ = false;
     last_request_counter_ = 0;

@@ -13,8 +13,13 @@
 //  PDI side:   when the SII configuration is loaded, the slave stack runs the
 //              AL state machine (SyncManager changes first, then AL control),
 //              enables/deactivates SyncManagers for the new state, serves the
-//              mailbox and runs the application. Finally DL status is
-//              recomputed (raising its ECAT event when it changed).
+//              mailbox and runs the application. In device emulation (0x0141
+//              b0, from the SII) there is no stack: AL status follows AL
+//              control. Finally DL status is recomputed (raising its ECAT
+//              event when it changed).
+//  time:       a frame's time (and advance_time()) expires the process data
+//              watchdog: outputs cleared; a stack in OP falls to SAFEOP+ERR
+//              0x001B.
 
 #include "ecpair/sim/esc.hpp"
 
@@ -39,6 +44,7 @@
 #include "mailbox_service.hpp"
 #include "physical_access.hpp"
 #include "port_logic.hpp"
+#include "process_data_watchdog.hpp"
 #include "register_map.hpp"
 #include "sii_eeprom.hpp"
 #include "sii_image.hpp"
@@ -78,6 +84,7 @@ struct Esc::Impl {
           eeprom(build_sii_image(description, layout)),
           ports(layout.port_count, log, owner),
           dc(memory),
+          watchdog(memory),
           al(memory, log, owner),
           checks(layout, sync_managers, memory),
           mailbox(memory, sync_managers, largest_slave_mailbox(layout)),
@@ -110,10 +117,13 @@ struct Esc::Impl {
     void on_dl_control_written(const FrameContext& context, std::uint8_t loop_before);
     void expire_temporary_loop(std::uint64_t now_ns);
     void apply_state(AlState state);
+    void advance_time(std::uint64_t now_ns);
+    void on_watchdog_expired();
     void update_dl_status();
     void power_on();
     std::optional<int> entry_port(std::uint64_t frame_seq) const;
     bool forwarding_rule() const { return DlControl::decode(memory.load<std::uint32_t>(reg::kDlControl)).forwarding_rule; }
+    bool device_emulation() const { return (memory.u8(regs::kEscConfig) & 0x01) != 0; }
 
     const EscDescription description;
     EscLayout layout;  // not const: a CoE PDO assignment changes the expected process data sizes
@@ -127,6 +137,7 @@ struct Esc::Impl {
     SiiEeprom eeprom;
     PortLogic ports;
     DcUnit dc;
+    ProcessDataWatchdog watchdog;
     AlStateMachine al;
     SlaveStackChecks checks;
     MailboxService mailbox;
@@ -142,6 +153,7 @@ struct Esc::Impl {
 
 EpuVerdict Esc::Impl::process(wire::FrameView& frame, const FrameContext& context) {
     if (!powered) return EpuVerdict::Destroy;
+    advance_time(context.time_ns);
     expire_temporary_loop(context.time_ns);
     if (ports.circulating_frame_check()) {
         if ((*frame.begin()).circulating()) {
@@ -181,14 +193,21 @@ void Esc::Impl::end_of_frame(const FrameContext& context) {
             dc.latch_receive_times(context.frame_seq, context.time_ns);
         }
         if (memory.staged_any(reg::kDcSystemTime, reg::kDcReceiveTimeEcu)) dc.system_time_written(context.time_ns);
+        if (memory.staged_any(regs::kWatchdogTimeProcessData, regs::kWatchdogTimeProcessData + 2)) watchdog.reset();
         memory.clear_staged();
     }
+    if (sync_managers.take_watchdog_trigger()) watchdog.trigger(context.time_ns);
     run_slave_stack(al_control_written, activation_changed != 0);
     update_dl_status();
 }
 
 void Esc::Impl::run_slave_stack(bool al_control_written, bool sm_activation_changed) {
     if (!eeprom.loaded()) return;  // the PDI is not operational
+    if (device_emulation()) {
+        if (al_control_written) al.on_control_written_device_emulation();
+        application.after_frame(al.state());
+        return;
+    }
     bool state_changed = false;
     if (sm_activation_changed) state_changed = al.on_sm_activation_changed(checks) || state_changed;
     if (al_control_written) {
@@ -204,8 +223,13 @@ void Esc::Impl::run_slave_stack(bool al_control_written, bool sm_activation_chan
 
 // What the slave stack does with its SyncManagers in each state, as SOES:
 // mailbox SMs run from PREOP (and in BOOT), process data SMs in SAFEOP/OP;
-// the others are deactivated from the PDI side.
+// the others are deactivated from the PDI side. Without a stack (device
+// emulation) nothing deactivates them.
 void Esc::Impl::apply_state(AlState state) {
+    if (device_emulation()) {
+        for (int n = 0; n < EscLayout::kSmCount; ++n) sync_managers.set_pdi_deactivated(n, false);
+        return;
+    }
     const bool mailbox_on = state != AlState::Init;
     const bool process_data_on = state == AlState::Safeop || state == AlState::Op;
     for (int n = 0; n < EscLayout::kSmCount; ++n) {
@@ -218,6 +242,26 @@ void Esc::Impl::apply_state(AlState state) {
         }
     }
     mailbox.set_running(mailbox_on && layout.has_mailbox());
+}
+
+void Esc::Impl::advance_time(std::uint64_t now_ns) {
+    if (watchdog.advance(now_ns)) on_watchdog_expired();
+}
+
+// The ESC clears the outputs (the digital output pins; the output buffers,
+// as a stack puts its outputs into their safe state); a stack in OP falls
+// to SAFEOP with the error flag and 0x001B, as SOES and the Beckhoff stack
+// do. Device emulation has no stack: the AL state stays.
+void Esc::Impl::on_watchdog_expired() {
+    for (int n = 0; n < EscLayout::kSmCount; ++n) {
+        if (layout.sms[static_cast<std::size_t>(n)].role != SmRole::Outputs) continue;
+        const SmChannel& channel = sync_managers.channel(n);
+        const std::uint32_t end = std::min<std::uint32_t>(channel.end(), regs::kAddressSpace);
+        for (std::uint32_t a = channel.start; a < end; ++a) memory.set_u8(static_cast<std::uint16_t>(a), 0);
+    }
+    log->warn("{}: SM watchdog expired (no process data written), outputs cleared", owner);
+    if (device_emulation() || !eeprom.loaded()) return;
+    if (al.on_local_error(AlState::Safeop, al_code::kSmWatchdog, "SM watchdog")) apply_state(al.state());
 }
 
 void Esc::Impl::on_dl_control_written(const FrameContext& context, std::uint8_t loop_before) {
@@ -266,6 +310,7 @@ void Esc::Impl::power_on() {
     sync_managers.reset();
     fmmus.reset();
     dc.reset();
+    watchdog.reset();
     const bool loaded = eeprom.power_on(memory);
     if (loaded) legacy.on_power_on(memory, eeprom);
     physical.set_process_ram_available(loaded);
@@ -322,6 +367,15 @@ void Esc::frame_arrived_at_port(int port, std::uint64_t time_ns, std::uint64_t f
     impl_->dc.port_arrival(port, time_ns, frame_seq);
     impl_->ports.frame_received(port);
     impl_->update_dl_status();
+}
+
+void Esc::advance_time(std::uint64_t now_ns) {
+    if (impl_->powered) impl_->advance_time(now_ns);
+}
+
+std::optional<std::uint64_t> Esc::next_deadline() const {
+    if (!impl_->powered) return std::nullopt;
+    return impl_->watchdog.deadline();
 }
 
 bool Esc::powered() const { return impl_->powered; }

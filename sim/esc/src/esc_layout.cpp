@@ -1,6 +1,7 @@
-// Built in three passes: the mailbox areas from <Mailbox>, then the ENI's
-// <SmN> entries on top (they may describe the mailbox SMs too), then the
-// derived values (assigned PDOs and expected sizes, RAM size).
+// Built in passes: the mailbox areas from <Mailbox>, then the ENI's <SmN>
+// entries on top (they may describe the mailbox SMs too), then the
+// SyncManager records of the InitCmds, then the derived values (assigned
+// PDOs and expected sizes, enable flags, RAM size, device emulation).
 
 #include "esc_layout.hpp"
 
@@ -62,6 +63,47 @@ std::vector<AssignedPdo> assigned_pdos(const eni::ProcessData& process_data) {
     return assigned;
 }
 
+// What the InitCmds write wins over what the ENI describes elsewhere (see
+// the header). Mailbox records also give the mailbox areas; records written
+// only for INIT -> BOOT give the bootstrap mailbox.
+void apply_init_cmd_writes(EscLayout& layout, const std::vector<SmInitWrite>& writes,
+                           std::array<std::optional<bool>, EscLayout::kSmCount>& enable) {
+    std::optional<eni::MailboxArea> bootstrap_out;
+    std::optional<eni::MailboxArea> bootstrap_in;
+    for (const SmInitWrite& w : writes) {
+        if (w.index >= EscLayout::kSmCount) continue;
+        const bool mailbox_mode = (w.control & 0x03) == 0x02;
+        const bool ecat_writes = (w.control & 0x0C) == 0x04;
+        if (w.bootstrap) {
+            if (mailbox_mode && w.index == 0) bootstrap_out = eni::MailboxArea{w.start, w.length};
+            if (mailbox_mode && w.index == 1) bootstrap_in = eni::MailboxArea{w.start, w.length};
+            continue;
+        }
+        SmPlan& plan = layout.sms[w.index];
+        plan.role = mailbox_mode ? (ecat_writes ? SmRole::MailboxOut : SmRole::MailboxIn)
+                                 : (ecat_writes ? SmRole::Outputs : SmRole::Inputs);
+        plan.start = w.start;
+        plan.control = w.control;
+        plan.length = w.length;
+        enable[w.index] = w.enable;
+    }
+    const SmPlan& out = layout.sms[0];
+    const SmPlan& in = layout.sms[1];
+    if (out.role == SmRole::MailboxOut && in.role == SmRole::MailboxIn && out.length > 0 && in.length > 0) {
+        layout.mailbox = MailboxAreas{{out.start, out.length}, {in.start, in.length}};
+    }
+    if (bootstrap_out && bootstrap_in) layout.bootstrap = MailboxAreas{*bootstrap_out, *bootstrap_in};
+}
+
+// A buffer the ESC's digital I/O PDI serves by itself: outputs drive the
+// pins from 0x0F00-0x0F03, inputs are sampled into 0x1000-0x1003.
+bool is_digital_io(const SmPlan& plan) {
+    const std::uint32_t end = std::uint32_t{plan.start} + std::max<std::uint16_t>(plan.length, 1);
+    if (plan.role == SmRole::Outputs) return plan.start >= 0x0F00 && end <= 0x0F04;
+    if (plan.role == SmRole::Inputs) return plan.start >= regs::kProcessRam && end <= regs::kProcessRam + 4U;
+    return false;
+}
+
 }  // namespace
 
 std::uint8_t default_sm_control(SmRole role) {
@@ -102,7 +144,8 @@ EscLayout EscLayout::of(const EscDescription& description) {
                                default_sm_control(SmRole::MailboxIn), true, std::nullopt};
     }
 
-    layout.pdos = assigned_pdos(description.process_data);
+    // Enable flags the ENI states; the others follow the final length.
+    std::array<std::optional<bool>, kSmCount> enable{};
     for (const auto& sm : description.process_data.sync_managers) {
         const SmRole role = role_of(sm.type);
         if (sm.index >= kSmCount || role == SmRole::Unused) continue;
@@ -111,20 +154,30 @@ EscLayout EscLayout::of(const EscDescription& description) {
         plan.role = role;
         if (sm.start_address) plan.start = *sm.start_address;
         plan.control = sm.control_byte.value_or(same_role ? plan.control : default_sm_control(role));
-        if (is_process_data(role)) {
-            std::uint32_t bits = 0;
-            bool any = false;
-            for (const AssignedPdo& a : layout.pdos) {
-                if (a.sm != sm.index) continue;
-                any = true;
-                for (const auto& entry : a.pdo->entries) bits += entry.bit_length;
-            }
-            if (any) plan.expected_size = static_cast<std::uint16_t>((bits + 7) / 8);
-            plan.length = plan.expected_size.value_or(sm.default_size.value_or(0));
-        } else if (sm.default_size) {
-            plan.length = *sm.default_size;
+        if (sm.default_size) plan.length = *sm.default_size;
+        enable[sm.index] = sm.enable;
+    }
+    apply_init_cmd_writes(layout, description.sm_init_writes, enable);
+
+    layout.pdos = assigned_pdos(description.process_data);
+    for (int n = 0; n < kSmCount; ++n) {
+        SmPlan& plan = layout.sms[static_cast<std::size_t>(n)];
+        if (!is_process_data(plan.role)) continue;
+        std::uint32_t bits = 0;
+        bool any = false;
+        for (const AssignedPdo& a : layout.pdos) {
+            if (a.sm != n) continue;
+            any = true;
+            for (const auto& entry : a.pdo->entries) bits += entry.bit_length;
         }
-        plan.enable = sm.enable.value_or(plan.length > 0);
+        if (any) {
+            plan.expected_size = static_cast<std::uint16_t>((bits + 7) / 8);
+            plan.length = *plan.expected_size;
+        }
+    }
+    for (int n = 0; n < kSmCount; ++n) {
+        SmPlan& plan = layout.sms[static_cast<std::size_t>(n)];
+        if (plan.role != SmRole::Unused) plan.enable = enable[static_cast<std::size_t>(n)].value_or(plan.length > 0);
     }
     if (!layout.mailbox && layout.sms[0].role == SmRole::MailboxOut && layout.sms[1].role == SmRole::MailboxIn &&
         layout.sms[0].length > 0 && layout.sms[1].length > 0) {
@@ -134,6 +187,8 @@ EscLayout EscLayout::of(const EscDescription& description) {
     std::optional<int> first_outputs;
     std::optional<int> first_inputs;
     std::uint32_t needed_end = regs::kProcessRam;
+    bool only_digital_io = true;
+    bool any_process_data = false;
     for (int n = 0; n < kSmCount; ++n) {
         const SmPlan& plan = layout.sms[static_cast<std::size_t>(n)];
         if (plan.role == SmRole::Unused) continue;
@@ -142,6 +197,8 @@ EscLayout EscLayout::of(const EscDescription& description) {
         needed_end = std::max<std::uint32_t>(needed_end, plan.start + plan.length * (buffered ? 3U : 1U));
         if (plan.role == SmRole::Outputs && !first_outputs) first_outputs = n;
         if (plan.role == SmRole::Inputs && !first_inputs) first_inputs = n;
+        only_digital_io = only_digital_io && is_digital_io(plan);
+        any_process_data = any_process_data || is_process_data(plan.role);
     }
     layout.output_sm = first_outputs.value_or(2);
     layout.input_sm = first_inputs.value_or(3);
@@ -152,6 +209,7 @@ EscLayout EscLayout::of(const EscDescription& description) {
     }
     const std::size_t needed_ram = ((needed_end - regs::kProcessRam) + 1023) / 1024 * 1024;
     layout.ram_bytes = std::clamp(needed_ram, kMinRam, kMaxRam);
+    layout.device_emulation = !layout.mailbox && !layout.bootstrap && any_process_data && only_digital_io;
     return layout;
 }
 

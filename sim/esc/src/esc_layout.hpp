@@ -10,9 +10,19 @@
 //    process data SM is the sum of the PDOs assigned to it (a PDO's Sm
 //    attribute or the SM's Pdo list), rounded up to bytes; without assigned
 //    PDOs it is unknown and any size is accepted;
+//    The SyncManager records the ENI's InitCmds write come last and win
+//    (start, control byte, enable; the length of a mailbox SM, or of a
+//    process data SM without assigned PDOs): the configurator wrote them
+//    from the device's ESI, which is what a real slave checks against;
 //  - the PDOs the SII lists (the assigned ones), the mailbox areas and
 //    protocols, the process RAM size (at least 8 KiB, enough for every
-//    described buffer, three times for a buffered SM) and the ports.
+//    described buffer, three times for a buffered SM) and the ports;
+//  - whether the ESC runs in device emulation (docs/ECSIM.md "Device
+//    emulation"): a slave without a mailbox whose process data SMs are all
+//    digital I/O buffers (outputs within 0x0F00-0x0F03, inputs within
+//    0x1000-0x1003) has no microcontroller, like an EL1xxx/EL2xxx terminal.
+//    Slaves without any process data SM (couplers) keep the stack model,
+//    which checks nothing for them (see the doc for why).
 
 #include <array>
 #include <cstddef>
@@ -64,6 +74,7 @@ struct EscLayout {
     std::size_t ram_bytes = 8 * 1024;
     int port_count = 2;
     std::array<char, 4> port_physics{};  // 'Y', 'K' or 0 for a port that is not implemented
+    bool device_emulation = false;       // AL status follows AL control, no stack (0x0141 b0)
 
     static EscLayout of(const EscDescription& description);
 

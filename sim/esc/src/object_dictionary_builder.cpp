@@ -18,15 +18,21 @@
 //     object the ENI does not otherwise describe cannot be pre-created (the
 //     entry sizes are unknown): it is logged and its download will abort;
 //  5. subindex 0 of every record = its highest subindex.
+// Every entry also gets what SDO Information describes: its CoE data type
+// (the ENI's <DataType> for mapped objects, the standard types for the
+// standard objects, by size for what only InitCmds reveal), bit length,
+// name and whether an RxPDO or TxPDO maps it.
 
 #include <algorithm>
 #include <string_view>
 
 #include <fmt/format.h>
 
+#include "coe_data_types.hpp"
 #include "ecpair/common/log.hpp"
 #include "ecpair/sim/esc.hpp"
 #include "ecpair/sim/object_dictionary.hpp"
+#include "ecpair/wire/sdo_information.hpp"
 #include "esc_layout.hpp"
 
 namespace ecpair::sim {
@@ -39,6 +45,7 @@ constexpr std::size_t kAssignmentEntrySize = 2;
 constexpr std::size_t kSubindexZeroOnWire = 2;
 
 using Objects = std::map<std::uint16_t, DictionaryObject>;
+namespace coe_type = wire::coe_type;
 
 std::vector<std::uint8_t> little_endian(std::uint32_t value, std::size_t size) {
     std::vector<std::uint8_t> bytes(size);
@@ -66,13 +73,40 @@ ObjectEntry& entry_at(DictionaryObject& object, ObjectEntry entry) {
     return *object.entries.insert(it, std::move(entry));
 }
 
-DictionaryObject variable(std::uint16_t index, std::string name, EntryAccess access, std::vector<std::uint8_t> value) {
-    return DictionaryObject{index, ObjectKind::Variable, std::move(name), {ObjectEntry{0, access, std::move(value)}}};
+ObjectEntry make_entry(std::uint8_t subindex, EntryAccess access, std::vector<std::uint8_t> value,
+                       std::uint16_t data_type, std::string name) {
+    ObjectEntry entry;
+    entry.subindex = subindex;
+    entry.access = access;
+    entry.value = std::move(value);
+    entry.data_type = data_type;
+    entry.name = std::move(name);
+    return entry;
+}
+
+std::string subindex_name(std::size_t subindex) { return fmt::format("SubIndex {:03}", subindex); }
+
+DictionaryObject variable(std::uint16_t index, std::string name, EntryAccess access, std::vector<std::uint8_t> value,
+                          std::uint16_t data_type) {
+    ObjectEntry entry = make_entry(0, access, std::move(value), data_type, name);
+    return DictionaryObject{index, ObjectKind::Variable, std::move(name), {std::move(entry)}};
 }
 
 // A record, mapping or assignment object with subindex 0 only.
 DictionaryObject with_count(std::uint16_t index, ObjectKind kind, std::string name, EntryAccess count_access) {
-    return DictionaryObject{index, kind, std::move(name), {ObjectEntry{0, count_access, {0}}}};
+    return DictionaryObject{index, kind, std::move(name),
+                            {make_entry(0, count_access, {0}, coe_type::kUnsigned8, "Number of entries")}};
+}
+
+std::uint16_t pdo_entry_type(ObjectKind kind) {
+    return kind == ObjectKind::PdoMapping ? coe_type::kUnsigned32 : coe_type::kUnsigned16;
+}
+
+// The type of a mapped application entry: the ENI's, else by its size.
+std::uint16_t mapped_type(const eni::PdoEntry& e) {
+    if (const std::uint16_t type = coe_data_type(e.data_type); type != 0) return type;
+    if (e.bit_length == 1) return coe_type::kBoolean;
+    return coe_data_type_of_size((e.bit_length + 7u) / 8u);
 }
 
 void set_count(DictionaryObject& object, std::size_t count) {
@@ -84,8 +118,10 @@ void grow_pdo_object(DictionaryObject& object, std::size_t capacity) {
     capacity = std::min(capacity, kMaxEntries);
     const EntryAccess access = object.entries.front().access;
     while (object.entries.size() - 1 < capacity) {
-        object.entries.push_back(ObjectEntry{static_cast<std::uint8_t>(object.entries.size()), access,
-                                             std::vector<std::uint8_t>(pdo_entry_size(object.kind), 0)});
+        const std::size_t subindex = object.entries.size();
+        object.entries.push_back(make_entry(static_cast<std::uint8_t>(subindex), access,
+                                            std::vector<std::uint8_t>(pdo_entry_size(object.kind), 0),
+                                            pdo_entry_type(object.kind), subindex_name(subindex)));
     }
 }
 
@@ -99,8 +135,8 @@ public:
 
     Objects build() {
         add_standard_objects();
-        for (const auto& pdo : description_.process_data.rx_pdos) add_pdo(pdo, EntryAccess::ReadWrite);
-        for (const auto& pdo : description_.process_data.tx_pdos) add_pdo(pdo, EntryAccess::ReadOnly);
+        for (const auto& pdo : description_.process_data.rx_pdos) add_pdo(pdo, false);
+        for (const auto& pdo : description_.process_data.tx_pdos) add_pdo(pdo, true);
         add_pdo_assignments();
         if (description_.mailbox) add_init_cmd_objects(description_.mailbox->coe_init_cmds);
         for (auto& [index, object] : objects_) {
@@ -112,27 +148,33 @@ public:
 private:
     void add_standard_objects() {
         constexpr auto ro = EntryAccess::ReadOnly;
-        add(variable(0x1000, "Device type", ro, little_endian(0, 4)));
-        add(variable(0x1008, "Device name", ro, text(description_.name)));
-        add(variable(0x1009, "Manufacturer hardware version", ro, text("ecsim")));
-        add(variable(0x100A, "Manufacturer software version", ro, text("ecsim")));
+        add(variable(0x1000, "Device type", ro, little_endian(0, 4), coe_type::kUnsigned32));
+        add(variable(0x1008, "Device name", ro, text(description_.name), coe_type::kVisibleString));
+        add(variable(0x1009, "Manufacturer hardware version", ro, text("ecsim"), coe_type::kVisibleString));
+        add(variable(0x100A, "Manufacturer software version", ro, text("ecsim"), coe_type::kVisibleString));
         DictionaryObject identity = with_count(0x1018, ObjectKind::Record, "Identity", ro);
         const std::uint32_t identity_values[] = {description_.vendor_id, description_.product_code,
                                                  description_.revision_no, description_.serial_no};
-        for (std::uint8_t s = 1; s <= 4; ++s) identity.entries.push_back({s, ro, little_endian(identity_values[s - 1], 4)});
+        const char* identity_names[] = {"Vendor ID", "Product code", "Revision", "Serial number"};
+        for (std::uint8_t s = 1; s <= 4; ++s) {
+            identity.entries.push_back(make_entry(s, ro, little_endian(identity_values[s - 1], 4), coe_type::kUnsigned32,
+                                                  identity_names[s - 1]));
+        }
         add(std::move(identity));
         if (layout_.described_sm_count > 0) {
             DictionaryObject types = with_count(0x1C00, ObjectKind::Record, "Sync manager communication type", ro);
             for (int n = 0; n < layout_.described_sm_count; ++n) {
                 const auto role = static_cast<std::uint8_t>(layout_.sms[static_cast<std::size_t>(n)].role);
-                types.entries.push_back({static_cast<std::uint8_t>(n + 1), ro, {role}});
+                types.entries.push_back(make_entry(static_cast<std::uint8_t>(n + 1), ro, {role}, coe_type::kUnsigned8,
+                                                   subindex_name(static_cast<std::size_t>(n + 1))));
             }
             add(std::move(types));
         }
     }
 
-    // The mapping object of `pdo` and the application objects it maps.
-    void add_pdo(const eni::Pdo& pdo, EntryAccess application_access) {
+    // The mapping object of `pdo` and the application objects it maps:
+    // RxPDO objects are writable, TxPDO objects read-only.
+    void add_pdo(const eni::Pdo& pdo, bool tx) {
         if (objects_.contains(pdo.index)) {
             log_->warn("{}: PDO {:#06x} is described twice; the first description is kept", owner_, pdo.index);
             return;
@@ -144,28 +186,39 @@ private:
                 const auto bits = std::min(left, kMaxMappedBits);
                 const auto value =
                     static_cast<std::uint32_t>(e.index) << 16 | static_cast<std::uint32_t>(e.subindex) << 8 | bits;
-                mapping.entries.push_back(
-                    {static_cast<std::uint8_t>(mapping.entries.size()), access, little_endian(value, kMappingEntrySize)});
+                const std::size_t subindex = mapping.entries.size();
+                mapping.entries.push_back(make_entry(static_cast<std::uint8_t>(subindex), access,
+                                                     little_endian(value, kMappingEntrySize), coe_type::kUnsigned32,
+                                                     subindex_name(subindex)));
                 left = static_cast<std::uint16_t>(left - bits);
             }
-            if (e.index != 0 && e.bit_length > 0) add_application_entry(e, application_access);
+            if (e.index != 0 && e.bit_length > 0) add_application_entry(e, tx);
         }
         set_count(mapping, mapping.entries.size() - 1);
         add(std::move(mapping));
     }
 
-    void add_application_entry(const eni::PdoEntry& e, EntryAccess access) {
+    void add_application_entry(const eni::PdoEntry& e, bool tx) {
+        const EntryAccess access = tx ? EntryAccess::ReadOnly : EntryAccess::ReadWrite;
         const std::size_t size = (e.bit_length + 7u) / 8u;
+        ObjectEntry described = make_entry(e.subindex, access, std::vector<std::uint8_t>(size, 0), mapped_type(e), e.name);
+        described.bit_length = e.bit_length;
         auto it = objects_.find(e.index);
         if (it == objects_.end()) {
-            add(e.subindex == 0 ? variable(e.index, e.name, access, std::vector<std::uint8_t>(size, 0))
-                                : with_count(e.index, ObjectKind::Record, e.name, EntryAccess::ReadOnly));
+            if (e.subindex == 0) {
+                add(DictionaryObject{e.index, ObjectKind::Variable, e.name, {described}});
+            } else {
+                add(with_count(e.index, ObjectKind::Record, e.name, EntryAccess::ReadOnly));
+            }
             it = objects_.find(e.index);
-            if (e.subindex == 0) return;
         }
         DictionaryObject& object = it->second;
-        if (object.kind != ObjectKind::Record || e.subindex == 0) return;  // already there, or a count
-        entry_at(object, ObjectEntry{e.subindex, access, std::vector<std::uint8_t>(size, 0)});
+        if (object.kind == ObjectKind::Record && e.subindex != 0) entry_at(object, std::move(described));
+        // Whichever PDOs map it say in which direction it is mappable.
+        if (ObjectEntry* entry = object.entry(object.kind == ObjectKind::Variable ? 0 : e.subindex);
+            entry != nullptr && (object.kind == ObjectKind::Variable || e.subindex != 0)) {
+            (tx ? entry->tx_pdo_mappable : entry->rx_pdo_mappable) = true;
+        }
     }
 
     void add_pdo_assignments() {
@@ -180,8 +233,9 @@ private:
             for (const AssignedPdo& a : layout_.pdos) {
                 if (a.sm != n || assigned == kMaxEntries - 1) continue;
                 ++assigned;
-                assignment.entries.push_back({static_cast<std::uint8_t>(assigned), EntryAccess::ReadWriteInPreop,
-                                              little_endian(a.pdo->index, kAssignmentEntrySize)});
+                assignment.entries.push_back(make_entry(static_cast<std::uint8_t>(assigned), EntryAccess::ReadWriteInPreop,
+                                                        little_endian(a.pdo->index, kAssignmentEntrySize),
+                                                        coe_type::kUnsigned16, subindex_name(assigned)));
             }
             set_count(assignment, assigned);
             const auto& same_direction =
@@ -217,7 +271,7 @@ private:
         if (kind == ObjectKind::Record && !any_subindex) kind = ObjectKind::Variable;
         log_->debug("{}: object {:#06x} created for the ENI's CoE InitCmds", owner_, index);
         if (kind == ObjectKind::Variable) {
-            return add(variable(index, writes.front()->comment, EntryAccess::ReadWrite, {}));
+            return add(variable(index, writes.front()->comment, EntryAccess::ReadWrite, {}, 0));
         }
         const EntryAccess count_access = kind == ObjectKind::Record ? EntryAccess::ReadOnly : EntryAccess::ReadWriteInPreop;
         return add(with_count(index, kind, writes.front()->comment, count_access));
@@ -250,10 +304,12 @@ private:
         }
         const bool is_count = object.kind == ObjectKind::Record && cmd.subindex == 0;
         const std::size_t size = is_count ? 1 : cmd.data.size();
-        ObjectEntry& entry =
-            entry_at(object, ObjectEntry{cmd.subindex, EntryAccess::ReadWrite, std::vector<std::uint8_t>(size, 0)});
+        ObjectEntry& entry = entry_at(object, make_entry(cmd.subindex, EntryAccess::ReadWrite,
+                                                         std::vector<std::uint8_t>(size, 0),
+                                                         coe_data_type_of_size(size), cmd.comment));
         entry.access = EntryAccess::ReadWrite;
         if (entry.value.empty()) entry.value.resize(size);  // a Variable created by object_for
+        if (entry.data_type == 0) entry.data_type = coe_data_type_of_size(entry.value.size());
         if (entry.value.size() != cmd.data.size()) {
             log_->warn("{}: InitCmd to {:#06x}:{:02x} (line {}) writes {} bytes, the entry has {}", owner_, cmd.index,
                        cmd.subindex, cmd.source_line, cmd.data.size(), entry.value.size());

@@ -71,6 +71,7 @@ bool PhysicalAccess::write(std::uint32_t address, ConstBytes in) {
     if (address < regs::kShadowedEnd) {
         const auto register_end = static_cast<std::uint32_t>(std::min<std::uint64_t>(end, regs::kShadowedEnd));
         memory_.stage(static_cast<std::uint16_t>(address), in.first(register_end - address));
+        sync_managers_.note_register_write(address, register_end - address);
         any = true;
     }
     const std::uint32_t ram_begin = std::max<std::uint32_t>(address, regs::kUserRam);

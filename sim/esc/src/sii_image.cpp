@@ -13,6 +13,7 @@
 
 #include <fmt/format.h>
 
+#include "coe_data_types.hpp"
 #include "ecpair/wire/esc_registers.hpp"
 
 namespace ecpair::sim {
@@ -55,26 +56,12 @@ private:
     std::size_t length_at_ = 0;
 };
 
-// ETG.1000.6 / ETG.2000 base data type codes of the ENI <DataType> names.
-std::uint8_t data_type_code(std::string_view name) {
-    struct Entry {
-        std::string_view name;
-        std::uint8_t code;
-    };
-    static constexpr std::array kTypes = {
-        Entry{"BOOL", 0x01},  Entry{"BIT", 0x01},    Entry{"SINT", 0x02},   Entry{"INT", 0x03},
-        Entry{"DINT", 0x04},  Entry{"USINT", 0x05},  Entry{"UINT", 0x06},   Entry{"UDINT", 0x07},
-        Entry{"REAL", 0x08},  Entry{"INT24", 0x10},  Entry{"LREAL", 0x11},  Entry{"LINT", 0x15},
-        Entry{"UINT24", 0x16}, Entry{"ULINT", 0x1B}, Entry{"BYTE", 0x1E},   Entry{"WORD", 0x1F},
-        Entry{"DWORD", 0x20}, Entry{"BIT1", 0x30},   Entry{"BIT2", 0x31},   Entry{"BIT3", 0x32},
-        Entry{"BIT4", 0x33},  Entry{"BIT5", 0x34},   Entry{"BIT6", 0x35},   Entry{"BIT7", 0x36},
-        Entry{"BIT8", 0x37},  Entry{"BITARR8", 0x2D}, Entry{"BITARR16", 0x2E}, Entry{"BITARR32", 0x2F},
-    };
-    const auto it = std::find_if(kTypes.begin(), kTypes.end(), [&](const Entry& e) { return e.name == name; });
-    return it == kTypes.end() ? std::uint8_t{0} : it->code;
-}
-
 std::string clipped(const std::string& text) { return text.substr(0, 255); }
+
+// SII word 0: PDI control (0x0140) and ESC configuration (0x0141).
+std::uint16_t pdi_control_word(const EscLayout& layout) {
+    return layout.device_emulation ? sii::kDigitalIoDeviceEmulation : sii::kPdiControlWord;
+}
 
 void write_strings(ImageWriter& w, const std::array<std::string, 3>& strings) {
     w.begin_category(cat::kCategoryStrings);
@@ -93,14 +80,17 @@ void write_general(ImageWriter& w, const EscLayout& layout) {
     w.u8(3);  // order string
     w.u8(1);  // name string
     w.u8(0);
-    w.u8((layout.mailbox_protocols & eni::kCoE) != 0 ? 0x01 : 0x00);  // CoE details: SDO
+    // CoE details: b0 SDO, b1 SDO Information, b2 PDO assignment, b3 PDO
+    // configuration, b5 SDO CompleteAccess (b4 upload at start-up: no).
+    w.u8((layout.mailbox_protocols & eni::kCoE) != 0 ? 0x2F : 0x00);
     w.u8((layout.mailbox_protocols & eni::kFoE) != 0 ? 0x01 : 0x00);  // FoE details
     w.u8((layout.mailbox_protocols & eni::kEoE) != 0 ? 0x01 : 0x00);  // EoE details
     w.u8(0);                                                          // SoE channels
     w.u8(0);                                                          // DS402 channels
     w.u8(0);                                                          // SysmanClass
-    // Flags: b2 mailbox data link layer, b3 explicit device ID in AL status code.
-    w.u8(static_cast<std::uint8_t>((layout.mailbox_data_link_layer ? 0x04 : 0x00) | 0x08));
+    // Flags: b2 mailbox data link layer, b3 explicit device ID in AL status
+    // code (which needs a stack: not in device emulation).
+    w.u8(static_cast<std::uint8_t>((layout.mailbox_data_link_layer ? 0x04 : 0x00) | (layout.device_emulation ? 0x00 : 0x08)));
     w.u16(0);  // EBUS current
     std::uint16_t ports = 0;
     for (int p = 0; p < 4; ++p) {
@@ -172,7 +162,7 @@ void write_pdos(ImageWriter& w, const EscLayout& layout, bool inputs) {
                 w.u16(entry.index);
                 w.u8(entry.subindex);
                 w.u8(0);  // name string
-                w.u8(data_type_code(entry.data_type));
+                w.u8(static_cast<std::uint8_t>(coe_data_type(entry.data_type)));
                 w.u8(bits);
                 w.u16(0);
                 remaining -= bits;
@@ -209,7 +199,7 @@ void sii_set_alias(Bytes image, std::uint16_t alias) {
 std::vector<std::uint8_t> build_sii_image(const EscDescription& description, const EscLayout& layout) {
     ImageWriter w;
     w.zeros(kHeaderBytes);
-    w.word_at(0x0000, sii::kPdiControlWord);
+    w.word_at(0x0000, pdi_control_word(layout));
     w.word_at(0x0002, sii::kSyncPulseLength);
     w.dword_at(cat::kVendorId, description.vendor_id);
     w.dword_at(cat::kProductCode, description.product_code);

@@ -3,7 +3,9 @@
 // description (ETG.1000.6 §5.4 / ETG.2010, esc-facts.md §2 "SII words"):
 //
 //   words 0x00-0x07  ESC configuration area A: PDI control/ESC config (0x0C05:
-//                    SPI PDI, DC sync and latch units, no device emulation),
+//                    SPI PDI, DC sync and latch units, no device emulation;
+//                    a digital I/O terminal without microcontroller: 0x0104,
+//                    digital I/O PDI with device emulation),
 //                    SYNC pulse length, the station alias in word 4 and the
 //                    CRC-8 (x^8+x^2+x+1, initial 0xFF) of words 0-6 in word 7
 //   words 0x08-0x0F  vendor ID, product code, revision, serial number
@@ -30,6 +32,7 @@ namespace ecpair::sim {
 namespace sii {
 inline constexpr std::uint16_t kConfigWords = 7;  // words covered by the checksum
 inline constexpr std::uint16_t kPdiControlWord = 0x0C05;
+inline constexpr std::uint16_t kDigitalIoDeviceEmulation = 0x0104;
 inline constexpr std::uint16_t kSyncPulseLength = 1000;  // 10 us in 10 ns units
 }  // namespace sii
 

@@ -36,6 +36,7 @@ void SyncManagerUnit::reset() {
     activation_ = {};
     active_mask_ = 0;
     events_ = {};
+    watchdog_triggered_ = false;
 }
 
 std::uint8_t SyncManagerUnit::refresh() {
@@ -78,6 +79,7 @@ SmAccessPlan SyncManagerUnit::plan_ecat_access(std::uint32_t address, std::size_
                 refuse();
                 continue;
             }
+            if (ecat_write && ch.ecat_writes() && ch.watchdog_trigger()) watchdog_triggered_ = true;
             // A one-byte buffer and the other side's direction pass unmanaged.
             if (ch.length == 1 || ch.ecat_writes() != ecat_write) continue;
             State& state = states_[n];
@@ -162,6 +164,22 @@ void SyncManagerUnit::acknowledge_repeat(int n) {
     const std::uint16_t address = sm_register(i, kPdiControlOffset);
     const auto request = static_cast<std::uint8_t>(memory_.u8(sm_register(i, kActivateOffset)) & kRepeatBit);
     memory_.set_u8(address, static_cast<std::uint8_t>((memory_.u8(address) & ~kRepeatBit) | request));
+}
+
+void SyncManagerUnit::note_register_write(std::uint32_t address, std::size_t length) {
+    if (active_mask_ == 0 || length == 0) return;
+    const auto end = static_cast<std::uint32_t>(address + length);
+    for (std::size_t n = 0; n < channels_.size(); ++n) {
+        const SmChannel& ch = channels_[n];
+        if ((active_mask_ & bit(n)) == 0 || ch.pdi_deactivated || !ch.ecat_writes() || !ch.watchdog_trigger()) continue;
+        if (ch.start < end && address < ch.end()) watchdog_triggered_ = true;
+    }
+}
+
+bool SyncManagerUnit::take_watchdog_trigger() {
+    const bool triggered = watchdog_triggered_;
+    watchdog_triggered_ = false;
+    return triggered;
 }
 
 SyncManagerUnit::Events SyncManagerUnit::take_events() {

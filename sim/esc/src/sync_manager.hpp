@@ -14,7 +14,10 @@
 //    state (full <-> empty). Refused bytes do not count for the WKC;
 //  - a channel with length 0 or 1, or disabled by the master (0x0806 b0 = 0),
 //    does not interfere; one deactivated by the PDI (0x0807 b0 = 1) refuses
-//    every byte of its buffer.
+//    every byte of its buffer;
+//  - an ECAT write into the buffer of an active channel whose control byte
+//    has the watchdog trigger (b6) is noted for the process data watchdog
+//    (take_watchdog_trigger()), one-byte buffers included.
 //
 // The status register (0x0805 + 8n: b0 write event, b1 read event, b3
 // mailbox full, b5:4 last buffer) and the SyncManager bits of the ECAT event
@@ -39,6 +42,7 @@ struct SmChannel {
 
     bool mailbox() const { return (control & 0x03) == 0x02; }
     bool ecat_writes() const { return (control & 0x0C) == 0x04; }
+    bool watchdog_trigger() const { return (control & 0x40) != 0; }
     // Whether the channel manages its buffer at all.
     bool active() const { return enabled && length > 0; }
     std::uint32_t end() const { return std::uint32_t{start} + length; }
@@ -90,6 +94,12 @@ public:
         std::uint8_t read = 0;
     };
     Events take_events();
+    // An ECAT write to registers (staged until the end of the frame): a
+    // SyncManager over the digital outputs (0x0F00-0x0F03) with the watchdog
+    // trigger is fed by it like one over RAM.
+    void note_register_write(std::uint32_t address, std::size_t length);
+    // Whether a watched buffer was written since the last call.
+    bool take_watchdog_trigger();
 
 private:
     struct State {
@@ -110,6 +120,7 @@ private:
     std::array<std::uint8_t, kCount> activation_{};
     std::uint8_t active_mask_ = 0;
     Events events_{};
+    bool watchdog_triggered_ = false;
 };
 
 }  // namespace ecpair::sim

@@ -12,6 +12,7 @@
 #include <array>
 #include <cerrno>
 #include <cstring>
+#include <optional>
 #include <system_error>
 
 #include <fmt/format.h>
@@ -170,20 +171,23 @@ void SegmentRunner::release_delayed() {
     }
 }
 
+// Until the pcap file is due for a flush, a delayed frame is due or an ESC's
+// SM watchdog expires (-1: nothing is due, wait for a descriptor).
 int SegmentRunner::poll_timeout_ms() const {
-    int timeout = flush_timeout_ms();
-    if (!delayed_.empty()) {
-        const auto left = std::chrono::ceil<std::chrono::milliseconds>(delayed_.front().due - std::chrono::steady_clock::now());
-        const int due = left.count() < 0 ? 0 : static_cast<int>(left.count());
-        timeout = timeout < 0 ? due : std::min(timeout, due);
+    const auto now = std::chrono::steady_clock::now();
+    std::optional<std::chrono::steady_clock::time_point> due;
+    const auto earliest = [&due](std::chrono::steady_clock::time_point at) {
+        if (!due || at < *due) due = at;
+    };
+    if (setup_.pcap && setup_.pcap->has_unflushed()) earliest(next_flush_);
+    if (!delayed_.empty()) earliest(delayed_.front().due);
+    if (const auto deadline = setup_.segment.next_deadline()) {
+        earliest(std::chrono::steady_clock::time_point(
+            std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::nanoseconds(*deadline))));
     }
-    return timeout;
-}
-
-int SegmentRunner::flush_timeout_ms() const {
-    if (!setup_.pcap || !setup_.pcap->has_unflushed()) return -1;
-    const auto left =
-        std::chrono::duration_cast<std::chrono::milliseconds>(next_flush_ - std::chrono::steady_clock::now());
+    if (!due) return -1;
+    // Rounded up: waking before the deadline would only go round again.
+    const auto left = std::chrono::ceil<std::chrono::milliseconds>(*due - now);
     return left.count() < 0 ? 0 : static_cast<int>(left.count());
 }
 
@@ -233,6 +237,7 @@ int SegmentRunner::serve() {
         if (fds[kRed].revents != 0 && !serve_side(sim::Side::Red)) return kExitFailure;
         control_->on_poll(std::span(fds).subspan(control_slot, control_count));
         release_delayed();
+        setup_.segment.advance_time(nanoseconds(std::chrono::steady_clock::now()));
 
         if (setup_.pcap && setup_.pcap->has_unflushed() && std::chrono::steady_clock::now() >= next_flush_) {
             setup_.pcap->flush();

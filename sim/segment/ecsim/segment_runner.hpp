@@ -6,6 +6,8 @@
 //   - the control socket (listener and clients),
 //   - a stop descriptor (a signalfd for SIGINT/SIGTERM in ecsim; any
 //     readable fd, e.g. an eventfd, in tests).
+//   - a timeout: the earliest SM watchdog deadline of the ESCs (the slaves
+//     notice a master that fell silent without any frame arriving).
 // With --pcap every frame in and out is recorded; the file is flushed at
 // most a second after a frame and at exit. `impair` requests on the control
 // socket impair either cable (CableImpairment): lost and duplicated frames,
@@ -74,7 +76,6 @@ private:
     int poll_timeout_ms() const;
     void apply_link_changes(link::LinkStateSource& source);
     void sync_side_links();
-    int flush_timeout_ms() const;
 
     RunnerSetup setup_;
     std::unique_ptr<ControlServer> control_;

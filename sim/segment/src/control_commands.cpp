@@ -62,10 +62,10 @@ std::string format_status(const Segment& segment) {
         const Esc& esc = segment.slave(position);
         const auto& d = esc.description();
         text += fmt::format(
-            " | {} name={} vendor={:#010x} product={:#010x} addr={:#06x} alias={:#06x} al={} powered={} unknown={} "
-            "ports={} group={}",
+            " | {} name={} vendor={:#010x} product={:#010x} addr={:#06x} alias={:#06x} al={} code={:#06x} powered={} "
+            "unknown={} ports={} group={}",
             position, quoted(d.name), d.vendor_id, d.product_code, esc.station_address(), esc.station_alias(),
-            wire::AlStatus{esc.al_status()}.to_string(), esc.powered() ? "yes" : "no",
+            wire::AlStatus{esc.al_status()}.to_string(), esc.al_status_code(), esc.powered() ? "yes" : "no",
             segment.is_unknown(position) ? "yes" : "no", port_states(esc), segment.group_of(position));
     }
     return control_ok(text);

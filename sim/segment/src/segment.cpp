@@ -171,6 +171,21 @@ Expected<Segment, TopologyError> Segment::with_wiring(std::vector<EscDescription
     return Segment(std::move(escs), std::move(topology).value(), options);
 }
 
+// ------------------------------------------------------------------ time
+
+void Segment::advance_time(std::uint64_t now_ns) {
+    for (auto& esc : escs_) esc.advance_time(now_ns);
+}
+
+std::optional<std::uint64_t> Segment::next_deadline() const {
+    std::optional<std::uint64_t> earliest;
+    for (const auto& esc : escs_) {
+        const auto deadline = esc.next_deadline();
+        if (deadline && (!earliest || *deadline < *earliest)) earliest = deadline;
+    }
+    return earliest;
+}
+
 // ------------------------------------------------------------------ carry
 
 std::optional<Side> Segment::carry(Side entry, Bytes buffer, std::size_t& size, std::uint64_t now_ns) {

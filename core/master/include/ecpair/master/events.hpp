@@ -2,9 +2,12 @@
 // What the master tells its application and operators, with the names
 // EtherCAT users know from commercial masters (design.md §5). Events are
 // small values so that the cycle thread can raise them without allocating;
-// text is made by describe() on the consumer's side.
+// text is made on the consumer's side: describe() says what the numbers
+// say, EventDescriber (event_describer.hpp) names the slaves, frames and
+// datagrams from the ENI and the cyclic plan.
 
 #include <array>
+#include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
@@ -12,19 +15,21 @@
 #include <string>
 #include <vector>
 
+#include "ecpair/wire/command.hpp"
+
 namespace ecpair::master {
 
 enum class EventKind : std::uint8_t {
     MasterStateChanged,   // a = from state, b = to state
-    CyclicWkcError,       // a = frame, b = datagram index, c = expected, d = received
-    FrameLost,            // a = frame kind, b = frame index (no copy came back in time)
+    CyclicWkcError,       // a = frame, b = datagram index (in the plan's frame), c = expected, d = received
+    FrameLost,            // a = frame kind, b = frame index (cyclic) / batch (acyclic), c and d: LostFrameDetail
     LineBreak,            // a = slaves reachable from MAIN (break after that position), b = 1 if known
     LineRepaired,
     LinkDown,             // a = link role
     LinkUp,               // a = link role
     BusScanStatus,        // a = slaves found, b = slaves configured, c = 1 if the bus matches
     BusMismatch,          // a = position, b = mismatch kind (bus::SlaveMatch)
-    SlavePresence,        // a = slave index (ENI order), b = 1 present / 0 absent
+    SlavePresence,        // a = slave index (ENI order, from 0), b = 1 present / 0 absent
     SlaveStateError,      // a = slave index, b = AL status, c = AL status code
     TransitionFailed,     // a = from state, b = to state, c = slave index or 0xFFFF for the master
     FrameResponseError,   // a = reason (FrameResponseReason), b = link role
@@ -147,7 +152,28 @@ struct Event {
     std::uint32_t a = 0, b = 0, c = 0, d = 0;
 };
 
-// One line for logs and operators ("cycle 123: line break after slave 2").
+// What a FrameLost event says about the frame (packed into c and d):
+// which copies were sent and came back, the state a cyclic frame was built
+// for, the first datagram of an acyclic frame (command, address, length)
+// and how many it carried.
+struct LostFrameDetail {
+    std::uint8_t master_state = 0;  // cyclic: AL state code (eni::SlaveState), in d
+    wire::Command first_command = wire::Command::Nop;
+    std::uint8_t datagrams = 0;
+    std::uint16_t first_length = 0;  // at most 1486 (11 bits)
+    std::uint32_t first_address = 0; // acyclic: ADP | ADO << 16, or the logical address, in d
+    bool sent_main = false;
+    bool sent_red = false;
+    bool main_returned = false;  // a copy came back, but the frame was still incomplete
+    bool red_returned = false;
+
+    void encode_into(Event& event) const;  // event.a (the frame kind) must be set
+    static LostFrameDetail decode(const Event& event);
+    std::string copies_text() const;  // "MAIN copy missing, RED copy came back"
+};
+
+// One line for logs and operators ("cycle 123: line break after slave 2"),
+// from the event alone; EventDescriber says more.
 std::string describe(const Event& event);
 
 // A bounded multi-producer queue: producers never wait for the consumer
@@ -157,6 +183,13 @@ public:
     explicit EventQueue(std::size_t capacity = 1024);
 
     void push(const Event& event);
+    // For producers outside the cycle thread (state machine, slave monitor,
+    // topology verifier, mirror): stamps the time and the current cycle of
+    // the attached counter (0 when none is attached).
+    void raise(EventKind kind, std::uint32_t a = 0, std::uint32_t b = 0, std::uint32_t c = 0, std::uint32_t d = 0);
+    // The master's cycle counter; nullptr detaches it. The counter must
+    // outlive the attachment.
+    void attach_cycle_counter(const std::atomic<std::uint64_t>* counter);
     // Waits up to `timeout` for events; returns what is queued (possibly nothing).
     std::vector<Event> pop_all(std::chrono::milliseconds timeout);
     std::uint64_t dropped() const;
@@ -168,6 +201,7 @@ private:
     std::size_t head_ = 0;
     std::size_t count_ = 0;
     std::uint64_t dropped_ = 0;
+    std::atomic<const std::atomic<std::uint64_t>*> cycle_counter_{nullptr};
 };
 
 }  // namespace ecpair::master

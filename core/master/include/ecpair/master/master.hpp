@@ -150,7 +150,8 @@ private:
         std::uint16_t index;
         bool sent_main;
         bool sent_red;
-        std::uint64_t cycle;  // when it was sent
+        std::uint64_t cycle;     // when it was sent
+        LostFrameDetail detail;  // what a FrameLost event will say about it
     };
 
     Master(std::shared_ptr<const eni::EniConfig> eni, const MasterOptions& options, link::Link& main,

@@ -12,10 +12,13 @@
 //    (type 0): length 0 or type 0 -> 0x0005 invalid header, length past the
 //    mailbox -> 0x0008 invalid size, another protocol than CoE -> 0x0002;
 //    a CoE part too short for its service -> 0x0006; a CoE service other
-//    than SDO request -> 0x0004 (service 0 -> 0x0005);
+//    than SDO request and SDO Information -> 0x0004 (service 0 -> 0x0005);
 //  - SDO: download and upload, expedited, normal and segmented, with
 //    CompleteAccess from subindex 0 or 1; everything refused gets an SDO
-//    abort (sent, like SOES, with CoE service "SDO request").
+//    abort (sent, like SOES, with CoE service "SDO request");
+//  - SDO Information (CoE service 8): OD list, object and entry
+//    descriptions from the same dictionary; a response longer than SM1 goes
+//    out in fragments, the next one as soon as the master read SM1.
 //
 // Replies carry the slave's station address and a counter 1..7 of their
 // own, and are never longer than SM1. A reply that finds SM1 still full
@@ -36,6 +39,7 @@
 namespace ecpair::sim {
 
 class SdoServer;
+class SdoInformationServer;
 
 // What the CoE server needs to know of, and tells, the slave it runs in.
 class CoeSlaveContext {
@@ -67,6 +71,7 @@ public:
 
 private:
     void handle_coe(ConstBytes body, MailboxOutbox& outbox);
+    void send_information_fragment(MailboxOutbox& outbox);
     void reply_error(std::uint16_t detail, MailboxOutbox& outbox);
     // Header + `payload_size` bytes already in reply_; posts it or keeps it waiting.
     void send(wire::MailboxType type, std::size_t payload_size, MailboxOutbox& outbox);
@@ -75,6 +80,7 @@ private:
     ObjectDictionary dictionary_;
     CoeSlaveContext& slave_;
     std::unique_ptr<SdoServer> sdo_;
+    std::unique_ptr<SdoInformationServer> information_;
     std::vector<std::uint8_t> reply_;  // SM1-sized; the last reply, kept for a retransmitted request
     std::size_t reply_size_ = 0;       // 0: no reply yet
     bool reply_waiting_ = false;       // built while SM1 was full

@@ -24,6 +24,18 @@ namespace ecpair::sim {
 
 inline constexpr int kMaxPorts = 4;
 
+// A SyncManager record (0x0800 + 8n) that the ENI's InitCmds write. The
+// configurator took it from the device's ESI, and a real slave checks its
+// SyncManagers against that same ESI (its SII), so the emulated SII follows it.
+struct SmInitWrite {
+    std::uint8_t index = 0;  // SM n
+    std::uint16_t start = 0;
+    std::uint16_t length = 0;
+    std::uint8_t control = 0;
+    bool enable = false;
+    bool bootstrap = false;  // written for INIT -> BOOT only (the bootstrap mailbox)
+};
+
 // What is needed to build one ESC: identity, ports, the mailbox and process
 // data layout (for the SII image, the checks of the AL state machine and the
 // memory size).
@@ -48,11 +60,13 @@ struct EscDescription {
     std::string physics = "YY";     // one letter per implemented port (Y = MII, K = EBUS)
     std::optional<eni::Mailbox> mailbox;
     eni::ProcessData process_data;
+    std::vector<SmInitWrite> sm_init_writes;  // in InitCmd order; records that only clear are left out
 
-    // From an ENI slave: identity, physics, mailbox and process data. The ENI's
-    // <Identification Value> becomes the alias when its Ado is 0x0012, the
-    // explicit device ID (id_selector) when it is 0x0134, and an input word
-    // when the Ado lies in the process RAM (0x1000 and up).
+    // From an ENI slave: identity, physics, mailbox, process data and the
+    // SyncManager records its InitCmds write. The ENI's <Identification
+    // Value> becomes the alias when its Ado is 0x0012, the explicit device ID
+    // (id_selector) when it is 0x0134, and an input word when the Ado lies in
+    // the process RAM (0x1000 and up).
     static EscDescription from_eni(const eni::Slave& slave);
 };
 
@@ -85,6 +99,14 @@ public:
     // A non-EtherCAT frame reaching the EPU: destroyed when the forwarding rule
     // (0x0100 b0) is on, forwarded unchanged otherwise.
     EpuVerdict process_non_ethercat() const;
+
+    // ---- time (the process data watchdog)
+    // The ESC's clock reached `now_ns` without a frame (frames carry their own
+    // time): an expired SM watchdog takes effect. The segment calls it when
+    // next_deadline() passes.
+    void advance_time(std::uint64_t now_ns);
+    // When the ESC next needs advance_time() (nullopt: not before a frame).
+    std::optional<std::uint64_t> next_deadline() const;
 
     // ---- ports
     int port_count() const;                 // implemented ports (from physics)

@@ -52,6 +52,14 @@ struct ObjectEntry {
     std::uint8_t subindex = 0;
     EntryAccess access = EntryAccess::ReadOnly;
     std::vector<std::uint8_t> value;  // its size is the entry's size: a download must match it
+    // What SDO Information describes (an entry description):
+    std::uint16_t data_type = 0;   // CoE data type index (wire::coe_type)
+    std::uint16_t bit_length = 0;  // 0: the value's size in bits
+    std::string name;
+    bool rx_pdo_mappable = false;  // an RxPDO of the ENI maps it
+    bool tx_pdo_mappable = false;  // a TxPDO of the ENI maps it
+
+    std::uint16_t bits() const { return bit_length != 0 ? bit_length : static_cast<std::uint16_t>(value.size() * 8); }
 };
 
 struct DictionaryObject {
@@ -80,6 +88,8 @@ public:
     static ObjectDictionary for_slave(const EscDescription& description);
 
     const DictionaryObject* find(std::uint16_t index) const;
+    // Every object, in ascending index order (SDO Information's OD list).
+    const std::map<std::uint16_t, DictionaryObject>& objects() const { return objects_; }
 
     // The bytes an upload returns.
     Expected<std::vector<std::uint8_t>, SdoAbortCode> upload(const SdoAddress& address) const;

@@ -89,6 +89,12 @@ public:
     // died on the way (see the counters). Allocates nothing.
     std::optional<Side> carry(Side entry, Bytes buffer, std::size_t& size, std::uint64_t now_ns);
 
+    // ---- time without frames
+    // The ESCs' clocks reached `now_ns` (an expired SM watchdog takes effect
+    // even when no frame comes); the earliest moment one of them needs it.
+    void advance_time(std::uint64_t now_ns);
+    std::optional<std::uint64_t> next_deadline() const;
+
     // ---- faults (positions 1..n)
     // Power: all the slave's ports lose link, so neighbours see link loss;
     // power-on restarts the ESC from its reset state. Repeating is a no-op.
