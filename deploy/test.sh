@@ -24,13 +24,15 @@
 #            (link guard heartbeat, topology verifier) and IP over the TAP
 #            bridge (TAP I/O thread). deploy/tsan.supp says what is
 #            suppressed and why.
-# ECPAIR_TEST_STAGES picks stages (default "main release asan tsan"). Every
+# ECPAIR_TEST_STAGES picks stages (default "main release": asan and tsan have
+# not yet been run to the end on a 2-core machine within CI's time, so they
+# are asked for explicitly: ECPAIR_TEST_STAGES="asan tsan"). Every
 # selected stage runs even when an earlier one failed; the exit status is 1
 # if any failed.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-stages=${ECPAIR_TEST_STAGES:-main release asan tsan}
+stages=${ECPAIR_TEST_STAGES:-main release}
 jobs=$(nproc)
 summary=()
 failed=0

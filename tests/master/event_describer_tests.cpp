@@ -94,7 +94,7 @@ TEST_CASE("a cyclic WKC error names the datagram, its ENI line and the slaves th
                Contains("BRD 0x0130, 2 bytes, 'AL status'") && Contains("1 of the 3 slaves did not answer"));
 }
 
-TEST_CASE("slave events name the slave; line breaks name both ends") {
+TEST_CASE("slave events name the slave, line breaks name both ends") {
     Fixture f;
     CHECK(f.describer.describe(event(EventKind::SlaveStateError, 5, 1, 0x14, 0x001B)) ==
           "cycle 5: slave 'Term 2 (EL2008)' (position 2, station 1002) is in SAFEOP+ERR, AL status code 0x001b (sync "

@@ -54,7 +54,7 @@ TEST_CASE("the header carries the incomplete bit and the fragments left") {
     CHECK(back->fragments_left == 0x0102);
 }
 
-TEST_CASE("responses round-trip; an entry description skips unit and default/min/max before its name") {
+TEST_CASE("responses round-trip, and an entry description skips unit and default/min/max before its name") {
     const OdListResponse list{OdListType::All, {0x1000, 0x1018, 0x6041}};
     CHECK(list.encode() == std::vector<std::uint8_t>{0x01, 0x00, 0x00, 0x10, 0x18, 0x10, 0x41, 0x60});
     CHECK(OdListResponse::decode(list.encode()).value().indices == list.indices);
