@@ -84,4 +84,19 @@ Expected<control::Response, int> call_daemon(const std::string& socket, const co
     return std::move(*response);
 }
 
+int run_socket_only_request(const std::vector<std::string>& args, std::ostream& out, std::ostream& err,
+                            const char* command, void (*fill)(control::Request&), const char* done) {
+    SocketOptions sockets;
+    boost::program_options::options_description options("ecpairctl options");
+    add_socket_options(options, sockets);
+    boost::program_options::variables_map vm;
+    const std::string usage = fmt::format("ecpairctl {} [--socket PATH]", command);
+    if (auto rc = parse_arguments(args, options, nullptr, vm, command, usage, out, err)) return *rc;
+    control::Request request;
+    fill(request);
+    if (auto response = call_daemon(sockets.path(), request, err); !response) return response.error();
+    fmt::print(out, "{}\n", done);
+    return kExitOk;
+}
+
 }  // namespace ecpair::ctl

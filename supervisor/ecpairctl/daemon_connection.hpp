@@ -48,6 +48,12 @@ Expected<control::Response, DaemonFailure> ask_daemon(const std::string& socket,
 Expected<control::Response, int> call_daemon(const std::string& socket, const control::Request& request,
                                              std::ostream& err);
 
+// A command that takes only --socket and sends one request: parses `args`,
+// sends what `fill` puts into the request, prints `done` when the daemon
+// accepted it; the exit code.
+int run_socket_only_request(const std::vector<std::string>& args, std::ostream& out, std::ostream& err,
+                            const char* command, void (*fill)(control::Request&), const char* done);
+
 // A connection failure in words an operator can act on (exposed for tests).
 DaemonFailure describe_connection_failure(const std::string& socket, const std::string& client_error);
 

@@ -14,35 +14,17 @@
 #include "exit_codes.hpp"
 
 namespace ecpair::ctl {
-namespace {
 
 namespace po = boost::program_options;
 
-int run_simple_request(const CommandArgs& args, std::ostream& out, std::ostream& err, const char* command,
-                       void (*fill)(control::Request&), const char* done) {
-    SocketOptions sockets;
-    po::options_description options("ecpairctl options");
-    add_socket_options(options, sockets);
-    po::variables_map vm;
-    const std::string usage = fmt::format("ecpairctl {} [--socket PATH]", command);
-    if (auto rc = parse_arguments(args, options, nullptr, vm, command, usage, out, err)) return *rc;
-    control::Request request;
-    fill(request);
-    if (auto response = call_daemon(sockets.path(), request, err); !response) return response.error();
-    fmt::print(out, "{}\n", done);
-    return kExitOk;
-}
-
-}  // namespace
-
 int run_accept_command(const CommandArgs& args, std::ostream& out, std::ostream& err) {
-    return run_simple_request(args, out, err, "accept", [](control::Request& r) { r.mutable_hc_accept(); },
-                              "accepted: the new groups go to the master state");
+    return run_socket_only_request(args, out, err, "accept", [](control::Request& r) { r.mutable_hc_accept(); },
+                                   "accepted: the new groups go to the master state");
 }
 
 int run_topology_change_command(const CommandArgs& args, std::ostream& out, std::ostream& err) {
-    return run_simple_request(args, out, err, "topology-change", [](control::Request& r) { r.mutable_hc_force(); },
-                              "topology change started: watch the events for topology-change-done");
+    return run_socket_only_request(args, out, err, "topology-change", [](control::Request& r) { r.mutable_hc_force(); },
+                                   "topology change started: watch the events for topology-change-done");
 }
 
 int run_block_node_command(const CommandArgs& args, std::ostream& out, std::ostream& err) {
