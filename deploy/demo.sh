@@ -24,6 +24,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 repo=$(pwd)
+source deploy/lib/demo_steps.sh
 source deploy/lib/topology.sh
 source deploy/lib/pair_member.sh
 source deploy/lib/tap_bridge.sh
@@ -33,9 +34,6 @@ bin=${ECPAIR_BUILD_DIR:-$repo/build}
 prefix=ecpd$$
 work=$(mktemp -d /tmp/ecpair-demo.XXXXXX)
 
-step() { printf '\n\033[1m== %s\033[0m\n' "$*"; }
-note() { printf '   %s\n' "$*"; }
-
 cleanup() {
   for pid in ${events_m1:-} ${events_m2:-}; do kill "$pid" 2>/dev/null || true; done
   for pid in ${m1:-} ${m2:-} ${sim:-}; do kill "$pid" 2>/dev/null && wait "$pid" 2>/dev/null || true; done
@@ -44,16 +42,7 @@ cleanup() {
 }
 trap cleanup EXIT
 
-wait_for() {  # seconds command...: retries the command until it succeeds
-  local seconds=$1; shift
-  for _ in $(seq $((seconds * 10))); do "$@" >/dev/null 2>&1 && return 0; sleep 0.1; done
-  "$@"
-}
-
-if [ "${ECPAIR_DEMO_NO_BUILD:-0}" != 1 ]; then
-  step "Installing dependencies and building (build/, log in build.log)"
-  bash deploy/build.sh >"$repo/build.log" 2>&1 || { tail -30 "$repo/build.log"; exit 1; }
-fi
+demo_build
 ecsim=$bin/sim/segment/ecsim
 ecpaird=$bin/supervisor/ecpaird/ecpaird
 ecpairctl=$bin/supervisor/ecpairctl/ecpairctl
