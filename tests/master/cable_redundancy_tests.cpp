@@ -8,11 +8,14 @@
 #include <algorithm>
 #include <array>
 #include <functional>
+#include <future>
+#include <thread>
 #include <map>
 #include <vector>
 
 #include <catch2/catch.hpp>
 
+#include "ecpair/common/bytes.hpp"
 #include "ecpair/eni/loader.hpp"
 #include "ecpair/link/memory_link.hpp"
 #include "ecpair/master/master.hpp"
@@ -20,6 +23,7 @@
 #include "ecpair/sim/eni_generator.hpp"
 #include "ecpair/sim/segment.hpp"
 #include "ecpair/sim/segment_bus_access.hpp"
+#include "ecpair/wire/esc_registers.hpp"
 
 using namespace ecpair;
 using namespace std::chrono_literals;
@@ -297,5 +301,29 @@ TEST_CASE("a copy lost on one side", "[master][cable_redundancy]") {
         CHECK_FALSE(ring.inputs_valid(lost_cycle + 1));
         require_every_cycle_complete(ring, lost_cycle + 2);
         CHECK(ring.master().stats().frames_lost > 0);
+    }
+}
+
+TEST_CASE("with the MAIN cable gone, auto-increment requests reach the slaves through RED at their positions",
+          "[master][cable_redundancy]") {
+    SteppedRing ring;
+    ring.cycles(50);
+    ring.set_break(0, true);  // the MAIN cable (a dead partner's side after a failover)
+    ring.cycles(20);
+    for (std::uint16_t position = 0; position < kSlaves; ++position) {
+        INFO("position " << position);
+        bus::DatagramRequest request;
+        request.command = wire::Command::Aprd;
+        request.address = wire::DatagramHeader::physical(static_cast<std::uint16_t>(-position), wire::reg::kStationAddress);
+        request.data.assign(2, 0);
+        auto reply = std::async(std::launch::async, [&] { return ring.master().bus().exchange(request); });
+        for (int i = 0; i < 500 && reply.wait_for(0ms) != std::future_status::ready; ++i) {
+            ring.cycle();
+            std::this_thread::sleep_for(200us);  // lets the requesting thread queue its request
+        }
+        const auto answer = reply.get();
+        REQUIRE(answer);
+        CHECK(answer->wkc == 1);
+        CHECK(load_le<std::uint16_t>(answer->data, 0) == 1001 + position);  // the slave at that position
     }
 }

@@ -430,6 +430,11 @@ bool Master::prepare_red_copy(FrameKind kind, Bytes frame) const {
         return wire::addressing_of(d.command()) == wire::Addressing::AutoIncrement;
     });
     if (!has_auto_increment) return true;
+    // With MAIN down only this copy goes out: it passes the slaves unprocessed
+    // to slave 1, whose port 0 has no link and loops it back, so processing
+    // starts at slave 1 and the positions are as they are (the partner's death
+    // leaves a new ACTIVE reaching its slaves through RED alone).
+    if (!link_up(LinkRole::Main)) return true;
     const RingState ring = ring_state_.load();
     if (ring == RingState::Closed) return true;
     const auto reachable = reachable_from_main_.load();
