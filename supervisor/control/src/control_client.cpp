@@ -149,7 +149,13 @@ Expected<Response, ClientError> call(const std::string& socket_path, const Reque
                                      std::chrono::milliseconds timeout) {
     Connection connection(socket_path);
     if (auto c = connection.connect(); !c) return unexpected(c.error());
-    if (auto s = connection.send(request); !s) return unexpected(s.error());
+    if (auto s = connection.send(request); !s) {
+        // A server that refuses at once (busy) answers and closes before the
+        // request is written: its answer is still waiting to be read.
+        auto early = connection.receive(std::chrono::steady_clock::now() + std::chrono::milliseconds(100));
+        if (early && early->has_value()) return std::move(**early);
+        return unexpected(s.error());
+    }
     auto response = connection.receive(std::chrono::steady_clock::now() + timeout);
     if (!response) return unexpected(response.error());
     if (!response->has_value()) return unexpected(ClientError{socket_path + ": no response from ecpaird"});
