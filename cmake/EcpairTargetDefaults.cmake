@@ -50,8 +50,27 @@ function(ecpair_target_instrumentation target)
   endif()
 endfunction()
 
+# Precompiled headers: spdlog and fmt (through ecpair/common/log.hpp) are most
+# of what a library file costs to compile, Catch2's single header most of a
+# test file. A build compiles each once, in the target that holds it
+# (ecpair_common for libraries and programs, ecpair_test_pch for the tests),
+# and every other target reuses it. A reusing target must have the defines
+# the header was built with, which it gets by linking ecpair_common; GCC
+# refuses the header otherwise (-Winvalid-pch, an error with ECPAIR_WERROR).
+option(ECPAIR_PCH "Build with precompiled headers" ON)
+
+# ecpair_target_defaults(<target> [PCH_FROM <holder> | NO_PCH]): the flags
+# above, and the precompiled header of <holder> (default ecpair_common);
+# NO_PCH for a target that does not link ecpair_common.
 function(ecpair_target_defaults target)
+  cmake_parse_arguments(D "NO_PCH" "PCH_FROM" "" ${ARGN})
   target_compile_features(${target} PUBLIC cxx_std_20)
   target_compile_options(${target} PRIVATE ${ECPAIR_WARNINGS})
   ecpair_target_instrumentation(${target})
+  if(NOT D_PCH_FROM)
+    set(D_PCH_FROM ecpair_common)
+  endif()
+  if(ECPAIR_PCH AND NOT D_NO_PCH AND NOT target STREQUAL D_PCH_FROM)
+    target_precompile_headers(${target} REUSE_FROM ${D_PCH_FROM})
+  endif()
 endfunction()

@@ -24,15 +24,14 @@
 #            (link guard heartbeat, topology verifier) and IP over the TAP
 #            bridge (TAP I/O thread). deploy/tsan.supp says what is
 #            suppressed and why.
-# ECPAIR_TEST_STAGES picks stages (default "main release": asan and tsan have
-# not yet been run to the end on a 2-core machine within CI's time, so they
-# are asked for explicitly: ECPAIR_TEST_STAGES="asan tsan"). Every
+# ECPAIR_TEST_STAGES picks stages (default: all four, in this order). Every
 # selected stage runs even when an earlier one failed; the exit status is 1
-# if any failed.
+# if any failed. Precompiled headers (cmake/EcpairTargetDefaults.cmake) are
+# what lets four builds fit CI's time.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-stages=${ECPAIR_TEST_STAGES:-main release}
+stages=${ECPAIR_TEST_STAGES:-main release asan tsan}
 jobs=$(nproc)
 summary=()
 failed=0
@@ -70,9 +69,12 @@ tsan_targets=(link_tests master_tests cable_redundancy_tests redundancy_tests se
 
 stage_tsan() {
   bash deploy/install-deps.sh
-  # -O1: TSan needs no more, and it compiles faster than -O2.
+  # -O1: TSan needs no more, and it compiles faster than -O2. Warnings are
+  # not errors here: GCC 12 at -O1 with -fsanitize=thread reports
+  # -Wmaybe-uninitialized on std::optional where -O0, -O2 and -O3 do not, and
+  # the other stages hold the code to the warnings.
   cmake -S . -B build-tsan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g" \
-    -DECPAIR_WERROR=ON -DECPAIR_SANITIZE=thread -DECPAIR_BUILD_BENCH=OFF
+    -DECPAIR_SANITIZE=thread -DECPAIR_BUILD_BENCH=OFF
   cmake --build build-tsan -j"$jobs" --target "${tsan_targets[@]}"
   # TSan's shadow memory does not fit a layout randomized with more than
   # 28 bits (newer kernels' default): run the stage without randomization.

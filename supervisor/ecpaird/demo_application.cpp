@@ -2,10 +2,16 @@
 
 #include <algorithm>
 
+#include <fmt/format.h>
+
+#include "ecpair/common/hex.hpp"
+#include "ecpair/common/log.hpp"
+
 namespace ecpair::daemon {
 namespace {
 
 constexpr std::uint32_t kCounterBytes = 2;  // ecsim's slaves put a counter first
+constexpr std::uint64_t kMismatchesLogged = 10;  // then only the counter grows
 
 }  // namespace
 
@@ -18,7 +24,8 @@ DemoApplication::DemoApplication(const eni::EniConfig& eni, config::DemoKind kin
         outputs_.push_back({send->bit_start / 8, send->bit_length / 8});
         if (recv && recv->bit_start % 8 == 0 && recv->bit_length / 8 > kCounterBytes) {
             const std::uint32_t length = std::min(send->bit_length / 8, recv->bit_length / 8 - kCounterBytes);
-            checks_.push_back({send->bit_start / 8, recv->bit_start / 8 + kCounterBytes, length});
+            checks_.push_back({send->bit_start / 8, recv->bit_start / 8 + kCounterBytes, length,
+                               fmt::format("\"{}\" (station {})", slave.info.name, slave.info.phys_addr)});
         }
     }
 }
@@ -43,9 +50,30 @@ bool DemoApplication::matches(const master::ProcessImage& image, const LoopbackC
                       inputs.begin() + check.input_offset);
 }
 
+void DemoApplication::report_mismatch(const master::ProcessImage& image, const LoopbackCheck& check,
+                                      std::uint64_t cycle) const {
+    if (stats_.mismatches > kMismatchesLogged) return;
+    const auto inputs = image.inputs();
+    const auto outputs = image.outputs();
+    const auto bytes = [&](ConstBytes area, std::uint32_t offset) {
+        return offset + check.length <= area.size() ? to_hex(area.subspan(offset, check.length)) : std::string("?");
+    };
+    logger("demo")->warn("loopback check, cycle {}: slave {} echoed {}, but the outputs were {} in this cycle and {} "
+                         "in the one before (both cycles came back complete){}",
+                         cycle, check.slave, bytes(inputs, check.input_offset), bytes(outputs, check.output_offset),
+                         bytes(previous_outputs_, check.output_offset),
+                         stats_.mismatches == kMismatchesLogged ? "; further mismatches are only counted" : "");
+}
+
 void DemoApplication::on_cycle(master::ProcessImage& image, const master::CycleInfo& info) {
-    // A passive (INACTIVE) master mirrors the partner's image: nothing to write or check.
-    if (kind_ == config::DemoKind::None || !info.sending) return;
+    if (kind_ == config::DemoKind::None) return;
+    // A passive (INACTIVE) master mirrors the partner's image: nothing to write or check, and
+    // once it sends again, what it remembers from before is no guide to what the slaves hold.
+    if (!info.sending) {
+        previous_inputs_valid_ = false;
+        previous_outputs_.clear();
+        return;
+    }
     // The inputs of this cycle answer the outputs of the previous one(s): check first, then write new outputs.
     if (kind_ == config::DemoKind::LoopbackCheck && info.state == eni::SlaveState::Op && info.inputs_valid &&
         previous_inputs_valid_ && !previous_outputs_.empty()) {
@@ -54,6 +82,7 @@ void DemoApplication::on_cycle(master::ProcessImage& image, const master::CycleI
             ++stats_.slaves_checked;
             if (!matches(image, check, image.outputs()) && !matches(image, check, previous_outputs_)) {
                 ++stats_.mismatches;
+                report_mismatch(image, check, info.cycle);
             }
         }
     }

@@ -9,10 +9,15 @@
 //    counter, inputs[2..] a copy of the outputs; see docs/ESC_EMULATION.md).
 //    The echo may lag one cycle (LRW reads before it writes), so the
 //    current and the previous outputs are both accepted; a cycle is only
-//    checked when the one before it was complete too (after a lost frame the
-//    slaves echo older outputs, which is no error of the data path).
+//    checked when the one before it was complete too, i.e. when that cycle's
+//    outputs are known to have reached the slaves (after a lost output frame
+//    the slaves echo older outputs, which is no error of the data path), and
+//    never in the first two cycles after this master (again) sends: while it
+//    stood by, the outputs it remembers are not the ones the slaves had.
+//    The first mismatches are logged with the cycle, the slave and the bytes.
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "ecpair/config/daemon_settings.hpp"
@@ -44,10 +49,12 @@ private:
         std::uint32_t output_offset;
         std::uint32_t input_offset;  // where the copy of the outputs starts (after the counter)
         std::uint32_t length;
+        std::string slave;           // the ENI's name and station address, for the log
     };
 
     void write_outputs(master::ProcessImage& image, std::uint64_t cycle);
     bool matches(const master::ProcessImage& image, const LoopbackCheck& check, ConstBytes outputs) const;
+    void report_mismatch(const master::ProcessImage& image, const LoopbackCheck& check, std::uint64_t cycle) const;
 
     config::DemoKind kind_;
     std::uint32_t step_cycles_;

@@ -6,6 +6,8 @@
 #include <iterator>
 #include <map>
 
+#include <fmt/format.h>
+
 #include "netlink_link_messages.hpp"
 #include "netlink_message_builder.hpp"
 
@@ -214,7 +216,7 @@ TEST_CASE("netlink: a real kernel dump decodes (seed corpus, veth pair in a name
     std::map<std::string, bool> up_by_name;
     bool done = false;
     for (int index = 0;; ++index) {
-        std::ifstream in(std::string(LINK_TEST_CORPUS_DIR) + "/kernel_dump_" + std::to_string(index), std::ios::binary);
+        std::ifstream in(fmt::format("{}/kernel_dump_{}", LINK_TEST_CORPUS_DIR, index), std::ios::binary);
         if (!in) break;
         const std::vector<std::uint8_t> bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
         auto batch = decode_netlink_link_messages(bytes);

@@ -5,6 +5,8 @@
 // again with ecpairctl; the manual mode waits for an accept and border close
 // keeps a stranger out; in a pair the INACTIVE answers like the ACTIVE, a
 // change is mirrored, and a takeover in the middle of a change finishes it.
+// Where slaves stay on the bus, ecsim's log proves they never left OP and
+// their SM watchdog never expired.
 
 #include <algorithm>
 #include <fstream>
@@ -164,6 +166,7 @@ TEST_CASE("a 4-slave group leaves and joins while the master stays in OP: no cyc
     auto& m1 = *bus.daemon;
     CHECK(m1.status().hot_connect().groups_present() == 1);
     const auto before = m1.status().counters();
+    const auto ecsim_log = bus.ecsim.log().size();
     std::size_t done = count_of(*bus.events, "topology-change-done");
 
     bus.ctl("group-on 2");
@@ -193,6 +196,10 @@ TEST_CASE("a 4-slave group leaves and joins while the master stays in OP: no cyc
     // as lost is one that came back late (the machine was busy), not one the change took.
     const auto [ecsim_rc, ecsim_status] = bus.ecsim.ctl("status");
     CHECK_THAT(ecsim_status, Catch::Contains(" destroyed=0 lost_no_link=0 lost_closed_port=0 "));
+    // The slaves that stayed kept OP and got their outputs in time all along (a powered-off
+    // group logs no AL transition); the joining group's slaves came up from INIT.
+    CHECK(bus.ecsim.slaves_leaving_op(ecsim_log) == 0);
+    CHECK(bus.ecsim.sm_watchdog_expiries(ecsim_log) == 0);
     const auto lost = after.counters().frames_lost() - before.frames_lost();
     const auto late = after.counters().late_copies() - before.late_copies();
     INFO("frames lost " << lost << ", late copies " << late);
@@ -315,6 +322,7 @@ TEST_CASE("in a pair the INACTIVE answers like the ACTIVE, and a takeover during
     };
     REQUIRE(m1.wait_for(mirrored, kReachOp));
     REQUIRE(m2.wait_for(mirrored, kReachOp));
+    const auto ecsim_log = ecsim.log().size();
 
     // The INACTIVE shows the groups as the ACTIVE does, and refuses to act.
     const auto on_m1 = groups_of(m1);
@@ -354,4 +362,9 @@ TEST_CASE("in a pair the INACTIVE answers like the ACTIVE, and a takeover during
     CHECK(finished->master_state() == "OP");
     // And the new INACTIVE mirrors the result.
     CHECK(m1.wait_for([](const StatusReply& s) { return s.hot_connect().groups_present() == 1; }, kChange));
+    // Through the change and the takeover in its middle, no slave on the bus left OP or went
+    // without outputs for its SM watchdog time (100 ms: the generated ENI writes no watchdog).
+    INFO(ecsim.log().substr(ecsim_log));
+    CHECK(ecsim.slaves_leaving_op(ecsim_log) == 0);
+    CHECK(ecsim.sm_watchdog_expiries(ecsim_log) == 0);
 }

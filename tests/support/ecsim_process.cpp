@@ -52,4 +52,19 @@ std::pair<int, std::string> EcsimProcess::ctl(const std::string& request) const 
 
 int EcsimProcess::stop() { return process_->stop(); }
 
+std::size_t EcsimProcess::log_lines_since(std::size_t from, std::string_view marker) const {
+    const auto text = log();
+    std::size_t n = 0;
+    for (auto at = text.find(marker, std::min(from, text.size())); at != std::string::npos;
+         at = text.find(marker, at + marker.size()))
+        ++n;
+    return n;
+}
+
+std::size_t EcsimProcess::slaves_leaving_op(std::size_t from) const { return log_lines_since(from, "AL OP -> "); }
+
+std::size_t EcsimProcess::sm_watchdog_expiries(std::size_t from) const {
+    return log_lines_since(from, "SM watchdog expired");
+}
+
 }  // namespace ecpair::test

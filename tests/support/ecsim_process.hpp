@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -37,7 +38,17 @@ public:
     // Stops ecsim (SIGTERM) and returns its exit status; the capture is complete afterwards.
     int stop();
 
+    // The AL transitions out of OP the simulated slaves logged since `from`
+    // (an offset into the log).
+    std::size_t slaves_leaving_op(std::size_t from = 0) const;
+    // The SM (process data) watchdog expiries logged since `from`: a slave in
+    // device emulation keeps OP when its watchdog expires, but its outputs are
+    // cleared, so "never left OP" alone does not prove it.
+    std::size_t sm_watchdog_expiries(std::size_t from = 0) const;
+
 private:
+    std::size_t log_lines_since(std::size_t from, std::string_view marker) const;
+
     EcsimSettings settings_;
     std::optional<ChildProcess> process_;
 };

@@ -89,23 +89,9 @@ void SupervisedPair::plug_cables(int i) const {
     ns(i).set_link(name(i) + "-red", true);
 }
 
-std::size_t SupervisedPair::slaves_leaving_op(std::size_t from) const {
-    const auto log = ecsim_->log();
-    const auto tail = log.substr(std::min(from, log.size()));
-    std::size_t n = 0;
-    for (auto at = tail.find("AL OP -> "); at != std::string::npos; at = tail.find("AL OP -> ", at + 1)) ++n;
-    return n;
-}
+std::size_t SupervisedPair::slaves_leaving_op(std::size_t from) const { return ecsim_->slaves_leaving_op(from); }
 
-std::size_t SupervisedPair::sm_watchdog_expiries(std::size_t from) const {
-    const auto log = ecsim_->log();
-    const auto tail = log.substr(std::min(from, log.size()));
-    std::size_t n = 0;
-    for (auto at = tail.find("SM watchdog expired"); at != std::string::npos;
-         at = tail.find("SM watchdog expired", at + 1))
-        ++n;
-    return n;
-}
+std::size_t SupervisedPair::sm_watchdog_expiries(std::size_t from) const { return ecsim_->sm_watchdog_expiries(from); }
 
 SegmentCapture SupervisedPair::capture() {
     if (ecsim_->stop() != 0) throw std::runtime_error("ecsim did not stop cleanly:\n" + ecsim_->log());

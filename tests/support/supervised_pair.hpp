@@ -59,12 +59,9 @@ public:
     void pull_cables(int i) const;
     void plug_cables(int i) const;
 
-    // The AL transitions out of OP the simulated slaves logged since `from`
-    // (an offset into ecsim's log).
+    // EcsimProcess's counts of slaves leaving OP and SM watchdog expiries
+    // since `from` (an offset into ecsim's log).
     std::size_t slaves_leaving_op(std::size_t from) const;
-    // The SM (process data) watchdog expiries ecsim logged since `from`: a
-    // slave in device emulation keeps OP when its watchdog expires, but its
-    // outputs are cleared, so "never left OP" alone does not prove it.
     std::size_t sm_watchdog_expiries(std::size_t from) const;
     // Stops ecsim and reads back its capture.
     SegmentCapture capture();
