@@ -46,8 +46,11 @@ CONF
 ip netns exec "$prefix-m1" "$bin/supervisor/ecpaird/ecpaird" --config "$work/bench.textproto" >"$work/ecpaird.log" 2>&1 &
 daemon_pid=$!
 status() { "$bin/supervisor/ecpairctl/ecpairctl" status --socket "$work/bench.sock"; }
-for _ in $(seq ${ECPAIR_BENCH_OP_WAIT:-300}); do status 2>/dev/null | grep -q 'master OP' && break; sleep 0.1; done
-status | grep -q 'master OP' || { echo "did not reach OP"; cat "$work/ecpaird.log"; exit 1; }
+# grep reads a captured status: piped, grep -q could end the pipe before ecpairctl finished
+# writing a long status (hundreds of slaves) and pipefail would take that for "not in OP".
+in_op() { grep -q 'master OP' <<<"$(status 2>/dev/null)"; }
+for _ in $(seq ${ECPAIR_BENCH_OP_WAIT:-300}); do in_op && break; sleep 0.1; done
+in_op || { echo "did not reach OP"; cat "$work/ecpaird.log"; exit 1; }
 
 start_status=$(status)
 start_daemon=$(ticks "$daemon_pid"); start_sim=$(ticks "$ecsim_pid"); start=$(date +%s.%N)
