@@ -7,6 +7,9 @@
 #
 #   bash bench/cycle_bench.sh [CYCLE_US] [SECONDS]     (defaults: 1000 600)
 #
+# ECPAIR_BENCH_SLAVES=N: N slaves instead of 33. ECPAIR_BENCH_CABLE_REDUNDANCY=0:
+# MAIN only (ecsim gets no RED interface, so the last slave loops the frames back).
+#
 # Needs root and a build in ./build (or ECPAIR_BUILD_DIR).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -29,16 +32,22 @@ ticks() { awk '{print $14 + $15}' "/proc/$1/stat"; }  # utime + stime of a proce
 slaves=${ECPAIR_BENCH_SLAVES:-33}
 "$bin/sim/generator/ecsim-make-eni" --slaves "$slaves" --input-bytes 76 --output-bytes 76 --cycle-us "$cycle_us" -o "$work/bench.xml"
 topology_up "$prefix" single
-ip netns exec "$prefix-sim" "$bin/sim/segment/ecsim" --eni "$work/bench.xml" --main-if sim-main --red-if sim-red \
+redundancy=${ECPAIR_BENCH_CABLE_REDUNDANCY:-1}
+if [ "$redundancy" = 1 ]; then
+  sim_red=(--red-if sim-red); interfaces='main: "m1-main" red: "m1-red"'; cable_redundancy=true
+else
+  sim_red=(); interfaces='main: "m1-main"'; cable_redundancy=false
+fi
+ip netns exec "$prefix-sim" "$bin/sim/segment/ecsim" --eni "$work/bench.xml" --main-if sim-main "${sim_red[@]}" \
   --control "$work/ecsim.sock" --realtime-priority 70 --log-level warn >"$work/ecsim.log" 2>&1 &
 ecsim_pid=$!
 for _ in $(seq 100); do [ -S "$work/ecsim.sock" ] && break; sleep 0.1; done
 cat >"$work/bench.textproto" <<CONF
 name: "bench"
-interfaces { main: "m1-main" red: "m1-red" }
+interfaces { $interfaces }
 eni_path: "$work/bench.xml"
 cycle_time_us: $cycle_us
-cable_redundancy: true
+cable_redundancy: $cable_redundancy
 demo { kind: LOOPBACK_CHECK step_cycles: 10 }
 control { path: "$work/bench.sock" }
 log_level: "warn"
@@ -46,8 +55,11 @@ CONF
 ip netns exec "$prefix-m1" "$bin/supervisor/ecpaird/ecpaird" --config "$work/bench.textproto" >"$work/ecpaird.log" 2>&1 &
 daemon_pid=$!
 status() { "$bin/supervisor/ecpairctl/ecpairctl" status --socket "$work/bench.sock"; }
-for _ in $(seq ${ECPAIR_BENCH_OP_WAIT:-300}); do status 2>/dev/null | grep -q 'master OP' && break; sleep 0.1; done
-status | grep -q 'master OP' || { echo "did not reach OP"; cat "$work/ecpaird.log"; exit 1; }
+# grep reads a captured status: piped, grep -q could end the pipe before ecpairctl finished
+# writing a long status (hundreds of slaves) and pipefail would take that for "not in OP".
+in_op() { grep -q 'master OP' <<<"$(status 2>/dev/null)"; }
+for _ in $(seq ${ECPAIR_BENCH_OP_WAIT:-300}); do in_op && break; sleep 0.1; done
+in_op || { echo "did not reach OP"; cat "$work/ecpaird.log"; exit 1; }
 
 start_status=$(status)
 start_daemon=$(ticks "$daemon_pid"); start_sim=$(ticks "$ecsim_pid"); start=$(date +%s.%N)
@@ -61,7 +73,7 @@ delta() { echo $(( $(number "$end_status" "$1") - $(number "$start_status" "$1")
 hz=$(getconf CLK_TCK)
 cpu() { awk -v a="$1" -v b="$2" -v hz="$hz" -v s="$start" -v e="$end" 'BEGIN { printf "%.1f%%", (b - a) / hz / (e - s) * 100 }'; }
 
-echo "cycle ${cycle_us} µs, ${seconds} s in OP, $slaves slaves, $(( slaves * 152 )) bytes of process data, cable redundancy"
+echo "cycle ${cycle_us} µs, ${seconds} s in OP, $slaves slaves, $(( slaves * 152 )) bytes of process data, cable redundancy $cable_redundancy"
 echo "  cycles:           $(delta cycles)"
 echo "  late cycles:      $(( $(late "$end_status") - $(late "$start_status") ))   (woke more than a quarter period after the deadline)"
 grep -oE 'cycles [0-9]+ \([^)]*\)' <<<"$end_status" | sed 's/^/  whole run:        /'

@@ -1,10 +1,13 @@
-// ecsim's processing time per frame: 33 simulated slaves with ~5 kB of
-// process data (76 bytes in and 76 out each, LWR + LRD in 4 frames plus AL
-// status), brought to OP by the real state machine, then the cyclic frames
-// of OP carried through the segment over and over. Also a frame that
-// passes the ring unprocessed (a RED copy) and an AL-status-only frame.
+// ecsim's processing time per cycle and frame: segments of 33, 128, 256 and
+// 512 simulated slaves with 76 bytes in and 76 out each (5 to 78 kB of
+// process data, LWR + LRD split over frames plus AL status), brought to OP
+// by the real state machine, then the cyclic frames of OP carried through
+// the segment over and over. Also the same frames passing the ring
+// unprocessed (RED copies).
 
 #include <array>
+#include <map>
+#include <memory>
 #include <vector>
 
 #include <benchmark/benchmark.h>
@@ -58,14 +61,17 @@ struct Fixture {
     std::vector<Frame> frames;
 };
 
-Fixture& fixture() {
-    static Fixture f(33);
-    return f;
+// One fixture per segment size, built on first use (bringing 512 slaves to OP takes a while).
+Fixture& fixture(std::int64_t slaves) {
+    static std::map<std::int64_t, std::unique_ptr<Fixture>> fixtures;
+    auto& f = fixtures[slaves];
+    if (!f) f = std::make_unique<Fixture>(static_cast<std::uint32_t>(slaves));
+    return *f;
 }
 
 // One iteration carries every cyclic frame of one cycle from MAIN.
-void BM_SegmentCycle33Slaves5kB(benchmark::State& state) {
-    auto& fx = fixture();
+void BM_SegmentCycle(benchmark::State& state) {
+    auto& fx = fixture(state.range(0));
     std::array<std::uint8_t, wire::kMaxFrameSizeVlan> buffer{};
     std::uint64_t now = 1'000'000'000;
     std::size_t bytes = 0;
@@ -86,9 +92,9 @@ void BM_SegmentCycle33Slaves5kB(benchmark::State& state) {
         benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 
-// The same frames entering at RED: they pass the 33 slaves unprocessed.
-void BM_SegmentUnprocessedPass33Slaves(benchmark::State& state) {
-    auto& fx = fixture();
+// The same frames entering at RED: they pass the slaves unprocessed.
+void BM_SegmentUnprocessedPass(benchmark::State& state) {
+    auto& fx = fixture(state.range(0));
     std::array<std::uint8_t, wire::kMaxFrameSizeVlan> buffer{};
     std::uint64_t now = 1'000'000'000;
     for (auto _ : state) {
@@ -103,6 +109,7 @@ void BM_SegmentUnprocessedPass33Slaves(benchmark::State& state) {
 
 }  // namespace
 
-BENCHMARK(BM_SegmentCycle33Slaves5kB)->Unit(benchmark::kMicrosecond);
-BENCHMARK(BM_SegmentUnprocessedPass33Slaves)->Unit(benchmark::kMicrosecond);
+// Segments of 33, 128, 256 and 512 slaves, 76 + 76 bytes each (5, 19, 38 and 78 kB).
+BENCHMARK(BM_SegmentCycle)->Arg(33)->Arg(128)->Arg(256)->Arg(512)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_SegmentUnprocessedPass)->Arg(33)->Arg(128)->Arg(256)->Arg(512)->Unit(benchmark::kMicrosecond);
 BENCHMARK_MAIN();

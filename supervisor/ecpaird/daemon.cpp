@@ -72,6 +72,8 @@ int Daemon::open() {
     options.cable_redundancy = settings_.cable_redundancy;
     options.split_lrw = settings_.split_lrw;
     options.max_acyclic_frames_per_cycle = settings_.max_acyclic_frames_per_cycle;
+    // Alone on its bus nothing needs a frame before the next cycle: the cycle reads the links itself.
+    options.receive_in_cycle = !settings_.redundancy.enabled;
     auto created = master::Master::create(eni_, options, *main_link_, red_link_.get(), events_);
     if (!created) {
         log()->error("{}", created.error());
@@ -145,8 +147,10 @@ void Daemon::start_threads() {
             std::max(settings_.realtime_priority - 1, 0)));
         receive_threads_.back()->start();
     };
-    add_receiver(*main_link_, master::LinkRole::Main);
-    if (red_link_) add_receiver(*red_link_, master::LinkRole::Red);
+    if (!master_->options().receive_in_cycle) {
+        add_receiver(*main_link_, master::LinkRole::Main);
+        if (red_link_) add_receiver(*red_link_, master::LinkRole::Red);
+    }
 
     cycle_thread_->start();
     if (tap_bridge_) tap_bridge_->start();

@@ -86,6 +86,11 @@ Expected<void, LinkError> MemoryLink::send(ConstBytes frame) {
     return {};
 }
 
+BatchSendResult MemoryLink::send_batch(std::span<const ConstBytes> frames) {
+    if (!frames.empty()) batches_.fetch_add(1, std::memory_order_relaxed);
+    return Link::send_batch(frames);
+}
+
 Expected<std::optional<ReceivedFrame>, LinkError> MemoryLink::try_receive(Bytes buffer) {
     return inbound_.pop(buffer);
 }
@@ -109,7 +114,7 @@ bool MemoryLink::link_up() const { return wire_->link_up(); }
 
 MemoryLink::Counters MemoryLink::counters() const {
     return Counters{delivered_.load(std::memory_order_relaxed), dropped_queue_full_.load(std::memory_order_relaxed),
-                    dropped_link_down_.load(std::memory_order_relaxed)};
+                    dropped_link_down_.load(std::memory_order_relaxed), batches_.load(std::memory_order_relaxed)};
 }
 
 }  // namespace ecpair::link

@@ -10,6 +10,8 @@
 //   6. when sending: the cyclic frames of the current state, the extension's
 //      frames and up to max_acyclic_frames_per_cycle acyclic frames.
 // A frame that has not come back when the next cycle starts is lost.
+// Every copy sent in a cycle is queued per link and the links' batches leave
+// at the end of step 6, one send_batch each (cycle_batches.hpp).
 
 #include "ecpair/master/master.hpp"
 
@@ -20,11 +22,19 @@
 #include "ecpair/common/log.hpp"
 #include "ecpair/wire/esc_registers.hpp"
 #include "ecpair/wire/source_mac.hpp"
+#include "cycle_batches.hpp"
 
 namespace ecpair::master {
 namespace {
 
 constexpr std::uint32_t kNoCount = 0xFFFF;  // TopologyChangeDetected: not known
+// Copies queued per link before they leave together. A cycle of 512 slaves
+// with 76 + 76 bytes each sends about 60 slave frames and 30 CMF frames; a
+// busier cycle sends a full batch early and goes on.
+constexpr std::size_t kCopiesPerBatch = 128;
+// Frames read from one link per cycle at most (receive_in_cycle): what is
+// left waits for the next cycle, so a flood cannot hold the cycle thread.
+constexpr std::size_t kMaxReceivedPerCycle = 1024;
 
 }  // namespace
 
@@ -89,7 +99,8 @@ Master::Master(std::shared_ptr<const eni::EniConfig> eni, const MasterOptions& o
       tracker_(wire::NicBytes::of(main.mac()), red ? wire::NicBytes::of(red->mac()) : wire::NicBytes{}),
       acyclic_(options.max_acyclic_frames_per_cycle),
       slaves_(eni_->slaves.size()),
-      topology_watch_(exchange_.plan()) {
+      topology_watch_(exchange_.plan()),
+      tx_batches_(std::make_unique<detail::CycleBatches>(kCopiesPerBatch)) {
     // Events raised by the workers (state machine, monitors) carry this master's cycle.
     events_.attach_cycle_counter(&cycle_counter_);
     snapshot_.inputs.assign(image_.inputs().size(), 0);
@@ -192,20 +203,45 @@ ImageSnapshot Master::snapshot() const {
 }
 
 void Master::accept_returned_frames() {
+    if (options_.receive_in_cycle) {
+        receive_from_links();
+        return;
+    }
     for (const LinkRole role : {LinkRole::Main, LinkRole::Red}) {
-        rx_rings_[static_cast<std::size_t>(role)].drain([&](const RingFrame& frame) {
-            const auto outcome = tracker_.accept(role, frame.frame());
-            if (outcome == AcceptOutcome::Stale) stats_.late_frames.fetch_add(1, std::memory_order_relaxed);
-            if (outcome != AcceptOutcome::Foreign) return;
-            stats_.foreign_frames.fetch_add(1, std::memory_order_relaxed);
-            if (extension_) extension_->foreign_frame(role, frame.frame());
-            // One event per cycle is enough to say "another master is on this bus".
-            if (foreign_reported_cycle_ != cycle_) {
-                foreign_reported_cycle_ = cycle_;
-                raise(EventKind::FrameResponseError, static_cast<std::uint32_t>(FrameResponseReason::ForeignSourceMac),
-                      static_cast<std::uint32_t>(role));
+        rx_rings_[static_cast<std::size_t>(role)].drain([&](const RingFrame& frame) { accept_copy(role, frame.frame()); });
+    }
+}
+
+// receive_in_cycle: what waits on each link is read now, in one pass per link
+// (libpcap's capture ring hands over the waiting frames without a system call each).
+void Master::receive_from_links() {
+    for (const LinkRole role : {LinkRole::Main, LinkRole::Red}) {
+        if (role == LinkRole::Red && red_ == nullptr) continue;
+        link::Link& from = link(role);
+        for (std::size_t n = 0; n < kMaxReceivedPerCycle; ++n) {
+            auto received = from.try_receive(rx_);
+            if (!received) {
+                // A failing link (interface going down): the next cycle tries again.
+                logger("master")->debug("{}: {}", from.name(), received.error().message);
+                break;
             }
-        });
+            if (!*received) break;
+            accept_copy(role, ConstBytes(rx_.data(), (*received)->size));
+        }
+    }
+}
+
+void Master::accept_copy(LinkRole role, ConstBytes frame) {
+    const auto outcome = tracker_.accept(role, frame);
+    if (outcome == AcceptOutcome::Stale) stats_.late_frames.fetch_add(1, std::memory_order_relaxed);
+    if (outcome != AcceptOutcome::Foreign) return;
+    stats_.foreign_frames.fetch_add(1, std::memory_order_relaxed);
+    if (extension_) extension_->foreign_frame(role, frame);
+    // One event per cycle is enough to say "another master is on this bus".
+    if (foreign_reported_cycle_ != cycle_) {
+        foreign_reported_cycle_ = cycle_;
+        raise(EventKind::FrameResponseError, static_cast<std::uint32_t>(FrameResponseReason::ForeignSourceMac),
+              static_cast<std::uint32_t>(role));
     }
 }
 
@@ -414,6 +450,7 @@ void Master::send_frames(link::Clock::time_point now) {
         if (!batch) break;
         send_copies(FrameKind::Acyclic, *batch, builder.finish(), acyclic_.retry_index(*batch));
     }
+    send_queued();
 }
 
 // Auto-increment addresses count slaves from where a frame is first
@@ -447,16 +484,22 @@ bool Master::prepare_red_copy(FrameKind kind, Bytes frame) const {
     return true;
 }
 
+void Master::queue_copy(LinkRole role, ConstBytes frame, std::size_t owner) { tx_batches_->add(role, frame, owner); }
+
 // The kernel reports carrier changes late (up to a second); a send that
 // fails on a link without carrier is news of a pulled cable right now.
-bool Master::send_on(LinkRole role, ConstBytes frame) {
-    if (link(role).send(frame)) return true;
-    // Refused by an adapter already known to be down is expected, not an error.
-    if (link_up_[static_cast<std::size_t>(role)].load()) {
-        stats_.send_errors.fetch_add(1, std::memory_order_relaxed);
-        if (!link(role).link_up()) set_link_state(role, false);
-    }
-    return false;
+void Master::send_queued() {
+    tx_batches_->flush(main_, use_red() ? red_ : nullptr, [this](LinkRole role, std::size_t owner, bool sent) {
+        InFlight& f = sent_this_cycle_[owner];
+        (role == LinkRole::Main ? f.sent_main : f.sent_red) = sent;
+        (role == LinkRole::Main ? f.detail.sent_main : f.detail.sent_red) = sent;
+        if (sent) return;
+        // Refused by an adapter already known to be down is expected, not an error.
+        if (link_up_[static_cast<std::size_t>(role)].load()) {
+            stats_.send_errors.fetch_add(1, std::memory_order_relaxed);
+            if (!link(role).link_up()) set_link_state(role, false);
+        }
+    });
 }
 
 void Master::send_copies(FrameKind kind, std::uint16_t index, Bytes frame, std::uint8_t retry_index) {
@@ -472,21 +515,21 @@ void Master::send_copies(FrameKind kind, std::uint16_t index, Bytes frame, std::
     // copy that vanishes into a dead cable costs nothing: the expected WKCs
     // tell whether the other, bounced copy passed every slave. Acyclic frames
     // have no expected WKC but are retried, so they go only where the link
-    // is believed up. A copy counts as sent when the adapter took it.
+    // is believed up. A copy counts as sent when the adapter took it: the
+    // copies are queued, and send_queued() marks the entry pushed below.
+    // A full batch leaves before any copy of this frame is queued (its entry is not pushed yet).
+    if (tx_batches_->full(LinkRole::Main) || tx_batches_->full(LinkRole::Red)) send_queued();
+    const std::size_t owner = sent_this_cycle_.size();
     const bool every_adapter = kind == FrameKind::Cyclic;
-    bool sent_main = false;
     if (every_adapter || link_up_[0].load()) {
         set_source(LinkRole::Main);
-        sent_main = send_on(LinkRole::Main, frame);
+        queue_copy(LinkRole::Main, frame, owner);
     }
-    bool sent_red = false;
     if (use_red() && (every_adapter || link_up_[1].load()) && prepare_red_copy(kind, frame)) {
         set_source(LinkRole::Red);
-        sent_red = send_on(LinkRole::Red, frame);
+        queue_copy(LinkRole::Red, frame, owner);
     }
     LostFrameDetail detail;
-    detail.sent_main = sent_main;
-    detail.sent_red = sent_red;
     detail.master_state = static_cast<std::uint8_t>(state_.load());
     if (kind == FrameKind::Acyclic) {
         if (const auto view = wire::ConstFrameView::parse(frame)) {
@@ -498,7 +541,7 @@ void Master::send_copies(FrameKind kind, std::uint16_t index, Bytes frame, std::
             }
         }
     }
-    sent_this_cycle_.push_back(InFlight{id, kind, index, sent_main, sent_red, cycle_, detail});
+    sent_this_cycle_.push_back(InFlight{id, kind, index, false, false, cycle_, detail});
     stats_.frames_sent.fetch_add(1, std::memory_order_relaxed);
 }
 

@@ -122,7 +122,8 @@ struct Esc::Impl {
     void update_dl_status();
     void power_on();
     std::optional<int> entry_port(std::uint64_t frame_seq) const;
-    bool forwarding_rule() const { return DlControl::decode(memory.load<std::uint32_t>(reg::kDlControl)).forwarding_rule; }
+    // Asked for every frame at every slave: the bit alone, not the whole register decoded (DlControl::decode).
+    bool forwarding_rule() const { return (memory.u8(reg::kDlControl) & 0x01U) != 0; }
     bool device_emulation() const { return (memory.u8(regs::kEscConfig) & 0x01) != 0; }
 
     const EscDescription description;

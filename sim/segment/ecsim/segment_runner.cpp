@@ -3,7 +3,8 @@
 // clients are stable), waits, then serves what is ready: the stop fd first,
 // then frames, link changes and control requests. Frames go through the
 // segment one at a time in one reusable buffer: receive, record, carry,
-// send out of the exit side, record.
+// queue for the exit side. The queued frames leave after each side's frames
+// were carried (one send_batch per exit side) and are recorded then.
 
 #include "segment_runner.hpp"
 
@@ -28,6 +29,8 @@ namespace {
 constexpr std::chrono::seconds kPcapFlushInterval{1};
 // Frames served from one side before the loop looks at the other fds again.
 constexpr int kFramesPerWakeup = 64;
+// Frames queued per exit side: a wake-up's frames, each possibly duplicated by an impairment.
+constexpr std::size_t kOutgoingCapacity = 2 * kFramesPerWakeup;
 
 spdlog::logger& runner_log() {
     static const auto logger = ecpair::logger("ecsim");
@@ -51,7 +54,8 @@ Expected<std::unique_ptr<SegmentRunner>, std::string> SegmentRunner::create(Runn
     return runner;
 }
 
-SegmentRunner::SegmentRunner(RunnerSetup setup) : setup_(std::move(setup)) {}
+SegmentRunner::SegmentRunner(RunnerSetup setup)
+    : setup_(std::move(setup)), outgoing_{link::FrameBatch(kOutgoingCapacity), link::FrameBatch(kOutgoingCapacity)} {}
 
 SegmentRunner::~SegmentRunner() {
     if (setup_.pcap) setup_.pcap->flush();
@@ -144,20 +148,50 @@ void SegmentRunner::carry(sim::Side side, std::span<std::uint8_t> buffer, std::s
 }
 
 void SegmentRunner::send(sim::Side exit, std::span<const std::uint8_t> outgoing) {
-    link::Link* out = link_of(exit);
-    if (out == nullptr) return;  // the segment never lets a frame out of a side without a link
-    if (auto sent = out->send(outgoing); !sent) {
-        ++send_failures_;
-        runner_log().warn("{}: {} ({} send failures so far)", out->name(), sent.error().message, send_failures_);
-        // The kernel tells carrier changes late; a failed send is the PHY's
-        // news that the cable is gone: close the port now, not a second later.
-        if (!out->link_up()) {
-            runner_log().info("{}: carrier lost (seen on send)", out->name());
-            setup_.segment.set_side_link(exit, false);
+    if (link_of(exit) == nullptr) return;  // the segment never lets a frame out of a side without a link
+    auto& batch = outgoing_[static_cast<std::size_t>(exit)];
+    if (batch.full()) send_queued(exit);
+    batch.append(outgoing);
+}
+
+void SegmentRunner::send_queued() {
+    send_queued(sim::Side::Main);
+    send_queued(sim::Side::Red);
+}
+
+// Frames after one the link refused are tried one by one, so each gets its
+// own outcome.
+void SegmentRunner::send_queued(sim::Side exit) {
+    auto& batch = outgoing_[static_cast<std::size_t>(exit)];
+    if (batch.empty()) return;
+    link::Link& out = *link_of(exit);
+    const auto frames = batch.frames();
+    const auto result = out.send_batch(frames);
+    for (std::size_t i = 0; i < frames.size(); ++i) {
+        if (i == result.sent) {
+            on_send_failure(out, exit, result.error ? result.error->message : std::string("not sent"));
+            continue;
         }
-        return;
+        if (i > result.sent) {
+            if (auto sent = out.send(frames[i]); !sent) {
+                on_send_failure(out, exit, sent.error().message);
+                continue;
+            }
+        }
+        if (setup_.pcap) setup_.pcap->record(frames[i], std::chrono::system_clock::now());
     }
-    if (setup_.pcap) setup_.pcap->record(outgoing, std::chrono::system_clock::now());
+    batch.clear();
+}
+
+void SegmentRunner::on_send_failure(link::Link& out, sim::Side exit, const std::string& reason) {
+    ++send_failures_;
+    runner_log().warn("{}: {} ({} send failures so far)", out.name(), reason, send_failures_);
+    // The kernel tells carrier changes late; a failed send is the PHY's
+    // news that the cable is gone: close the port now, not a second later.
+    if (!out.link_up()) {
+        runner_log().info("{}: carrier lost (seen on send)", out.name());
+        setup_.segment.set_side_link(exit, false);
+    }
 }
 
 void SegmentRunner::release_delayed() {
@@ -234,9 +268,12 @@ int SegmentRunner::serve() {
             if (fds[kFirstLinkState + i].revents != 0) apply_link_changes(*setup_.link_states[i]);
         }
         if (fds[kMain].revents != 0 && !serve_side(sim::Side::Main)) return kExitFailure;
+        send_queued();
         if (fds[kRed].revents != 0 && !serve_side(sim::Side::Red)) return kExitFailure;
+        send_queued();
         control_->on_poll(std::span(fds).subspan(control_slot, control_count));
         release_delayed();
+        send_queued();
         setup_.segment.advance_time(nanoseconds(std::chrono::steady_clock::now()));
 
         if (setup_.pcap && setup_.pcap->has_unflushed() && std::chrono::steady_clock::now() >= next_flush_) {

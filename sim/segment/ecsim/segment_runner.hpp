@@ -1,7 +1,9 @@
 #pragma once
 // ecsim's event loop: one thread, blocked in poll() on
-//   - the MAIN and RED links (a frame read is carried through the segment
-//     and sent out of the side it leaves by, at once),
+//   - the MAIN and RED links (the frames waiting on a side are read and
+//     carried through the segment one by one; those leaving by each side
+//     are sent together, one Link::send_batch per side, before the loop
+//     reads the other side),
 //   - the link state sources (carrier changes -> Segment::set_side_link),
 //   - the control socket (listener and clients),
 //   - a stop descriptor (a signalfd for SIGINT/SIGTERM in ecsim; any
@@ -29,6 +31,7 @@
 #include "cable_impairment.hpp"
 #include "control_server.hpp"
 #include "ecpair/common/expected.hpp"
+#include "ecpair/link/frame_batch.hpp"
 #include "ecpair/link/link.hpp"
 #include "ecpair/link/link_state_source.hpp"
 #include "ecpair/sim/pcap_recorder.hpp"
@@ -69,7 +72,11 @@ private:
     bool serve_side(sim::Side side);
     // Carries one frame received on `side` through the segment and sends it on.
     void carry(sim::Side side, std::span<std::uint8_t> buffer, std::size_t size, std::uint64_t time_ns);
+    // Queues a frame leaving by `exit` (sent by send_queued()).
     void send(sim::Side exit, std::span<const std::uint8_t> frame);
+    void send_queued();
+    void send_queued(sim::Side exit);
+    void on_send_failure(link::Link& out, sim::Side exit, const std::string& reason);
     // Carries the delayed frames whose time has come.
     void release_delayed();
     std::string handle_control(std::string_view line);
@@ -89,6 +96,7 @@ private:
         std::vector<std::uint8_t> bytes;
     };
     std::deque<Delayed> delayed_;  // in due order (one delay per side, frames in arrival order)
+    std::array<link::FrameBatch, 2> outgoing_;  // by sim::Side
 };
 
 }  // namespace ecpair::ecsim

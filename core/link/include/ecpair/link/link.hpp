@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <functional>
 #include <optional>
+#include <span>
 #include <string>
 
 #include "ecpair/common/bytes.hpp"
@@ -51,6 +52,14 @@ struct ReceivedFrame {
     std::chrono::system_clock::time_point capture_time;
 };
 
+// What send_batch did: frames [0, sent) were taken by the adapter. When sent
+// is less than the batch, `error` says why frame `sent` was not, and the
+// frames after it were not tried.
+struct BatchSendResult {
+    std::size_t sent = 0;
+    std::optional<LinkError> error;
+};
+
 class Link {
 public:
     virtual ~Link() = default;
@@ -63,6 +72,11 @@ public:
 
     // Sends one frame as is (no padding is added: the caller pads).
     virtual Expected<void, LinkError> send(ConstBytes frame) = 0;
+
+    // Sends the frames in order, in as few system calls as the link can
+    // (PcapLink: one sendmmsg per up to 64 frames). This default sends them
+    // one by one with send().
+    virtual BatchSendResult send_batch(std::span<const ConstBytes> frames);
 
     // Non-blocking: a frame if one is waiting, nullopt if none.
     virtual Expected<std::optional<ReceivedFrame>, LinkError> try_receive(Bytes buffer) = 0;

@@ -47,6 +47,7 @@ public:
         std::uint64_t delivered = 0;
         std::uint64_t dropped_queue_full = 0;
         std::uint64_t dropped_link_down = 0;
+        std::uint64_t batches = 0;  // send_batch calls that carried at least one frame
     };
 
     ~MemoryLink() override;
@@ -54,6 +55,8 @@ public:
     const std::string& name() const override { return name_; }
     wire::MacAddress mac() const override { return mac_; }
     Expected<void, LinkError> send(ConstBytes frame) override;
+    // Each frame as send() would; counted as one batch (Counters::batches).
+    BatchSendResult send_batch(std::span<const ConstBytes> frames) override;
     Expected<std::optional<ReceivedFrame>, LinkError> try_receive(Bytes buffer) override;
     Expected<std::optional<ReceivedFrame>, LinkError> receive(Bytes buffer, std::chrono::nanoseconds timeout) override;
     int selectable_fd() const override;
@@ -74,6 +77,7 @@ private:
     std::atomic<std::uint64_t> delivered_{0};
     std::atomic<std::uint64_t> dropped_queue_full_{0};
     std::atomic<std::uint64_t> dropped_link_down_{0};
+    std::atomic<std::uint64_t> batches_{0};
 };
 
 class MemoryWire : public std::enable_shared_from_this<MemoryWire> {

@@ -7,6 +7,14 @@
 // (PCAP_D_IN): a frame this link sends is never received back by it.
 // Blocking receives sleep in poll() on pcap's selectable fd.
 //
+// Batches (send_batch) leave through a second AF_PACKET socket bound to the
+// interface, by sendmmsg: up to 64 frames per system call. libpcap has no
+// batch send, and a plain packet socket needs nothing of a ring for a few
+// dozen frames a cycle (PACKET_TX_RING would need its slots polled back and
+// AF_XDP a driver; veth and every NIC take sendmmsg). The socket receives
+// nothing (protocol 0), and the capture is inbound only, so neither socket
+// hears the other's frames.
+//
 // Opening needs the interface administratively up (libpcap refuses it
 // otherwise: InterfaceDown); a missing carrier is fine.
 //
@@ -49,6 +57,7 @@ public:
     const std::string& name() const override { return ifname_; }
     wire::MacAddress mac() const override { return mac_; }
     Expected<void, LinkError> send(ConstBytes frame) override;
+    BatchSendResult send_batch(std::span<const ConstBytes> frames) override;
     Expected<std::optional<ReceivedFrame>, LinkError> try_receive(Bytes buffer) override;
     Expected<std::optional<ReceivedFrame>, LinkError> receive(Bytes buffer, std::chrono::nanoseconds timeout) override;
     int selectable_fd() const override { return selectable_fd_; }

@@ -41,6 +41,13 @@ struct MasterOptions {
     bool cable_redundancy = false;  // send every frame on MAIN and RED (needs a RED link)
     bool split_lrw = false;         // with cable redundancy: LRW -> LWR + LRD
     std::size_t max_acyclic_frames_per_cycle = 2;
+    // The cycle thread reads the links itself at the start of each cycle
+    // (accept_returned_frames) instead of taking what receive threads put
+    // into its rings: for a master that nothing asks to react to a frame
+    // before the next cycle (no pair partner to forward for, no TAP bridge),
+    // so that it wakes once a cycle, not once a frame. on_frame must not be
+    // used then.
+    bool receive_in_cycle = false;
 };
 
 struct CycleInfo {
@@ -74,6 +81,10 @@ struct MasterStats {
     std::uint64_t send_errors = 0;
     std::uint64_t rx_dropped = 0;
 };
+
+namespace detail {
+class CycleBatches;
+}
 
 class Master {
 public:
@@ -167,7 +178,12 @@ private:
     void send_frames(link::Clock::time_point now);
     void send_copies(FrameKind kind, std::uint16_t index, Bytes frame, std::uint8_t retry_index = 0);
     bool prepare_red_copy(FrameKind kind, Bytes frame) const;
-    bool send_on(LinkRole role, ConstBytes frame);
+    // Queues a copy for the link's batch (owner: its sent_this_cycle_ entry);
+    // send_queued() sends the batches and marks each copy sent or not.
+    void queue_copy(LinkRole role, ConstBytes frame, std::size_t owner);
+    void send_queued();
+    void receive_from_links();
+    void accept_copy(LinkRole role, ConstBytes frame);
     void raise(EventKind kind, std::uint32_t a = 0, std::uint32_t b = 0, std::uint32_t c = 0, std::uint32_t d = 0);
     void publish_snapshot();
     bool use_red() const;
@@ -195,6 +211,8 @@ private:
     std::vector<InFlight> sent_this_cycle_;
     std::vector<WkcMismatch> mismatches_;
     std::array<std::uint8_t, wire::kMaxFrameSizeVlan> tx_{};
+    std::unique_ptr<detail::CycleBatches> tx_batches_;
+    std::array<std::uint8_t, wire::kMaxFrameSizeVlan + 64> rx_{};  // receive_in_cycle
     std::array<std::uint8_t, wire::kMaxFrameSizeVlan> merged_{};
     bool inputs_valid_ = false;
     std::uint64_t foreign_reported_cycle_ = UINT64_MAX;
