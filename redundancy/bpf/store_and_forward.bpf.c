@@ -3,6 +3,7 @@
  * the same decisions as StoreAndForward (redundancy/src/store_and_forward.cpp),
  * on tc ingress (tcx) of both of the INACTIVE's links.
  *
+ *   not enabled (this master is ACTIVE) -> pass to the host, untouched
  *   larger than any frame, or not a valid datagram frame -> count, drop
  *   not EtherType 0x88A4 -> count, pass to the host (not ours to forward)
  *   leave by the other link if it is up, else back out of the arrival link
@@ -159,6 +160,7 @@ __attribute__((noinline)) int process_datagram(struct __sk_buff* skb, __u32 off,
 
 SEC("tc")
 int ecpair_store_and_forward(struct __sk_buff* skb) {
+    if (control_value(ECPAIR_KFWD_ENABLED) == 0) return TC_ACT_OK;
     const __u32 if_main = control_value(ECPAIR_KFWD_IFINDEX_MAIN);
     const __u32 if_red = control_value(ECPAIR_KFWD_IFINDEX_RED);
     enum link arrived;

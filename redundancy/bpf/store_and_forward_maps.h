@@ -21,7 +21,8 @@ enum ecpair_kfwd_control_key {
     ECPAIR_KFWD_UP_MAIN = 2,   /* 1: frames may leave by MAIN */
     ECPAIR_KFWD_UP_RED = 3,
     ECPAIR_KFWD_ANSWER_SLOT = 4, /* which `answer` entry (0, 1) is complete */
-    ECPAIR_KFWD_CONTROL_KEYS = 5,
+    ECPAIR_KFWD_ENABLED = 5,     /* 1: INACTIVE, forward; 0: pass every frame to the host */
+    ECPAIR_KFWD_CONTROL_KEYS = 6,
 };
 
 /* `answer` (array of 2): what the INACTIVE writes into every CMF on its first

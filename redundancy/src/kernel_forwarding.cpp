@@ -91,6 +91,7 @@ KernelForwarding::KernelForwarding(store_and_forward_bpf* skeleton, std::array<s
     set_control(ECPAIR_KFWD_IFINDEX_MAIN, static_cast<std::uint32_t>(ifindex_[0]));
     set_control(ECPAIR_KFWD_IFINDEX_RED, static_cast<std::uint32_t>(ifindex_[1]));
     set_control(ECPAIR_KFWD_ANSWER_SLOT, 0);
+    set_control(ECPAIR_KFWD_ENABLED, 0);
     // Until the link monitor says otherwise: both up (a frame that cannot leave is lost either way).
     set_control(ECPAIR_KFWD_UP_MAIN, 1);
     set_control(ECPAIR_KFWD_UP_RED, 1);
@@ -141,6 +142,8 @@ bool KernelForwarding::attached() const {
     std::lock_guard lock(mutex_);
     return links_[0] >= 0 && links_[1] >= 0;
 }
+
+void KernelForwarding::set_forwarding(bool on) { set_control(ECPAIR_KFWD_ENABLED, on ? 1 : 0); }
 
 void KernelForwarding::set_link_state(master::LinkRole role, bool up) {
     set_control(role == master::LinkRole::Main ? ECPAIR_KFWD_UP_MAIN : ECPAIR_KFWD_UP_RED, up ? 1 : 0);

@@ -136,14 +136,14 @@ void RedundancyController::set_kernel_forwarding(std::unique_ptr<KernelForwardin
     if (state_.load() == RedState::Inactive) attach_kernel_forwarding();
 }
 
-// Where the kernel refuses now, user space forwards: the ring never stays open.
+// A map write, not an attach: the cycle thread must not wait for the kernel here.
 void RedundancyController::attach_kernel_forwarding() {
     if (!kernel_) return;
-    auto attached = kernel_->attach();
-    if (!attached) {
-        log()->warn("{}; user space forwards instead", attached.error());
+    if (!kernel_->attached()) {
+        log()->warn("the kernel store-and-forward program is not attached: user space forwards");
         return;
     }
+    kernel_->set_forwarding(true);
     kernel_forwarding_.store(true, std::memory_order_release);
     publish_kernel_answer();
     log()->info("INACTIVE frames are forwarded by the kernel (user space mirrors them)");
@@ -299,7 +299,7 @@ void RedundancyController::change_role(RedState to, master::ProcessImage& image)
                               : own       ? left_bus_->master_state
                                           : eni::SlaveState::Init;
         left_bus_.reset();
-        if (kernel_forwarding_.exchange(false)) kernel_->detach();  // before the first frame goes out
+        if (kernel_forwarding_.exchange(false)) kernel_->set_forwarding(false);  // before the first frame goes out
         // Hot: keep the slaves where the partner had them and send the mirrored
         // outputs in this very cycle. Cold: start over from INIT.
         master_.request_state(change.master_state);

@@ -20,13 +20,10 @@ Expected<std::unique_ptr<redundancy::KernelForwarding>, std::string> open_forwar
     }
     auto opened = redundancy::KernelForwarding::open(settings.main_interface, settings.red_interface,
                                                      settings.redundancy.master_pd_in_size);
-    // Attach once now: a NIC or kernel that refuses shows at start-up, not at the first role change.
+    // Attached for ecpaird's life (roles switch it on and off): a NIC or kernel
+    // that refuses shows at start-up, and the cycle thread never waits for an attach.
     if (opened) {
-        if (auto attached = (*opened)->attach(); !attached) {
-            opened = unexpected(attached.error());
-        } else {
-            (*opened)->detach();
-        }
+        if (auto attached = (*opened)->attach(); !attached) opened = unexpected(attached.error());
     }
     if (!opened) {
         if (mode == config::ForwardingMode::Kernel) return unexpected(opened.error() + " (redundancy.forwarding: KERNEL)");

@@ -1,7 +1,8 @@
 #pragma once
 // Which path forwards the INACTIVE's frames (redundancy.forwarding,
-// docs/CONFIG.md): loads the kernel store-and-forward program and checks that
-// it attaches to both links, where the configuration wants it.
+// docs/CONFIG.md): loads the kernel store-and-forward program and attaches it
+// to both links (switched off until the master is INACTIVE), where the
+// configuration wants it.
 //
 //   USER    nullptr: user space forwards
 //   AUTO    the kernel path where it works, else nullptr with a warning naming why

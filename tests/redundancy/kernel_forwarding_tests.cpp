@@ -10,6 +10,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -152,6 +153,7 @@ struct KernelPath {
         INFO((opened ? std::string() : opened.error()));
         REQUIRE(opened);
         kernel = std::move(*opened);
+        kernel->set_forwarding(true);
         kernel->set_answer(kPdIn, kStatus);
     }
 
@@ -362,7 +364,25 @@ TEST_CASE("kernel path: the loader names what is wrong", "[kbpf]") {
     CHECK_THAT(message, Catch::Contains("refused the BPF program") && Catch::Contains("CAP_BPF"));
 }
 
-TEST_CASE("kernel path: attached to veths it forwards on the wire, and detaching stops it", "[kbpf]") {
+namespace {
+
+// The first frame `link` receives within `timeout` (nullopt: none).
+std::optional<Frame> receive(link::Link& link, std::chrono::milliseconds timeout = std::chrono::seconds(5)) {
+    std::array<std::uint8_t, wire::kMaxFrameSizeVlan> buffer{};
+    const auto give_up = std::chrono::steady_clock::now() + timeout;
+    while (std::chrono::steady_clock::now() < give_up) {
+        auto received = link.receive(buffer, std::chrono::milliseconds(50));
+        REQUIRE(received);
+        if (received->has_value()) {
+            return Frame(buffer.begin(), buffer.begin() + static_cast<std::ptrdiff_t>((*received)->size));
+        }
+    }
+    return std::nullopt;
+}
+
+}  // namespace
+
+TEST_CASE("kernel path: attached to veths it forwards on the wire; switched off or detached it does not", "[kbpf]") {
     KernelPath kernel;
     auto far_main = link::PcapLink::open("kf-main-far");
     auto far_red = link::PcapLink::open("kf-red-far");
@@ -370,19 +390,6 @@ TEST_CASE("kernel path: attached to veths it forwards on the wire, and detaching
     REQUIRE(far_red);
     REQUIRE(kernel.kernel->attach());
     CHECK(kernel.kernel->attached());
-
-    auto receive = [](link::Link& link) -> std::optional<Frame> {
-        std::array<std::uint8_t, wire::kMaxFrameSizeVlan> buffer{};
-        const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(5);
-        while (std::chrono::steady_clock::now() < give_up) {
-            auto received = link.receive(buffer, std::chrono::milliseconds(100));
-            REQUIRE(received);
-            if (received->has_value()) {
-                return Frame(buffer.begin(), buffer.begin() + static_cast<std::ptrdiff_t>((*received)->size));
-            }
-        }
-        return std::nullopt;
-    };
     const Frame frame = cmf_frame(0x08);
     REQUIRE((*far_main)->send(frame));
     const auto arrived = receive(**far_red);
@@ -391,11 +398,63 @@ TEST_CASE("kernel path: attached to veths it forwards on the wire, and detaching
     CHECK(*arrived == kernel.run(LinkRole::Main, frame).frame);
     CHECK(kernel.kernel->counters().forwarded_main_to_red == 2);  // the wire's frame and the test run's
 
+    // Switched off (this master became ACTIVE): attached, and every frame stays here.
+    kernel.kernel->set_forwarding(false);
+    REQUIRE((*far_main)->send(frame));
+    CHECK_FALSE(receive(**far_red, std::chrono::milliseconds(300)));
+    CHECK(kernel.run(LinkRole::Main, frame).action == Action::Passed);
+    CHECK(kernel.run(LinkRole::Main, frame).frame == frame);
+
+    kernel.kernel->set_forwarding(true);
     kernel.kernel->detach();
     CHECK_FALSE(kernel.kernel->attached());
     REQUIRE((*far_main)->send(frame));
-    std::array<std::uint8_t, wire::kMaxFrameSizeVlan> buffer{};
-    auto nothing = (*far_red)->receive(buffer, std::chrono::milliseconds(300));
-    REQUIRE(nothing);
-    CHECK_FALSE(nothing->has_value());
+    CHECK_FALSE(receive(**far_red, std::chrono::milliseconds(300)));
+}
+
+TEST_CASE("kernel path: a process killed with SIGKILL leaves no program forwarding", "[kbpf]") {
+    test::TestNamespace ns{"ecpkf"};
+    ns.create_veth("kf-main", "kf-main-far");
+    ns.create_veth("kf-red", "kf-red-far");
+    test::NamespaceScope inside(ns);
+    auto far_main = link::PcapLink::open("kf-main-far");
+    auto far_red = link::PcapLink::open("kf-red-far");
+    REQUIRE(far_main);
+    REQUIRE(far_red);
+
+    // A child (in this namespace, as ecpaird would be) attaches and waits to be killed.
+    int ready[2];
+    REQUIRE(pipe(ready) == 0);
+    const pid_t child = fork();
+    REQUIRE(child >= 0);
+    if (child == 0) {
+        close(ready[0]);
+        auto opened = KernelForwarding::open("kf-main", "kf-red", 0);
+        const bool attached = opened && (*opened)->attach();
+        if (attached) (*opened)->set_forwarding(true);
+        (void)!write(ready[1], attached ? "y" : "n", 1);
+        for (;;) pause();
+    }
+    close(ready[1]);
+    char answer = 0;
+    REQUIRE(read(ready[0], &answer, 1) == 1);
+    close(ready[0]);
+    REQUIRE(answer == 'y');
+
+    const Frame frame = ecat_frame(0x08);
+    REQUIRE((*far_main)->send(frame));
+    const auto forwarded = receive(**far_red);
+    REQUIRE(forwarded);
+    CHECK(forwarded->at(6) == 0x88);
+
+    kill(child, SIGKILL);
+    int status = 0;
+    REQUIRE(waitpid(child, &status, 0) == child);
+    // The kernel releases the bpf_links with the process's files; give it a bounded moment.
+    bool still_forwarding = true;
+    for (int attempt = 0; attempt < 50 && still_forwarding; ++attempt) {
+        REQUIRE((*far_main)->send(frame));
+        still_forwarding = receive(**far_red, std::chrono::milliseconds(100)).has_value();
+    }
+    CHECK_FALSE(still_forwarding);
 }

@@ -11,6 +11,12 @@
 // through netlink would stay until its qdisc is removed, which is why this
 // needs tcx, Linux 6.6 or newer).
 //
+// Attached is not yet forwarding: set_forwarding(true) switches the program
+// on (INACTIVE), false off (ACTIVE: every frame passes to the host as if no
+// program were there). Roles change by this map write, not by attaching:
+// attaching or detaching a tcx link waits for an RCU grace period (40-50 ms
+// measured here), far too long for the cycle thread at a role change.
+//
 // What user space keeps doing: feeding the answer (set_answer, every cycle
 // and when the hand-off acknowledgement changes) and the link states (the
 // link monitor's view). The counters are read from the program's maps.
@@ -55,11 +61,15 @@ public:
     KernelForwarding(const KernelForwarding&) = delete;
     KernelForwarding& operator=(const KernelForwarding&) = delete;
 
-    // Attaches on tc ingress of both links (both or neither): from now on the
-    // kernel forwards. Fails naming the interface and the kernel's reason.
+    // Attaches on tc ingress of both links (both or neither); it forwards once
+    // set_forwarding(true). Fails naming the interface and the kernel's reason.
+    // Blocks for a grace period: not on the cycle thread.
     Expected<void, std::string> attach();
-    void detach();
+    void detach();  // blocks likewise
     bool attached() const;
+
+    // On: the program forwards (starts off). Any thread, does not block.
+    void set_forwarding(bool on);
 
     void set_link_state(master::LinkRole role, bool up);
     // What the program writes into the MASTER_PD_IN and STANDBY_STATUS

@@ -128,9 +128,10 @@ public:
     void set_on_role_change(std::function<void(const RoleChange&)> callback) { on_role_change_ = std::move(callback); }
     // Master-to-master traffic after the CMF (the TAP bridge); set before frames flow, outlives the controller.
     void set_acyclic_channel(AcyclicMasterRedChannel* channel);
-    // The kernel path for the INACTIVE's frames, attached whenever this master
-    // is INACTIVE (now, if it is) and detached before it sends as ACTIVE;
-    // where it does not attach, StoreAndForward forwards. Set before frames flow.
+    // The kernel path for the INACTIVE's frames, attached already: it forwards
+    // whenever this master is INACTIVE (now, if it is) and is switched off
+    // before the master sends as ACTIVE. Not attached: StoreAndForward
+    // forwards. Set before frames flow.
     void set_kernel_forwarding(std::unique_ptr<KernelForwarding> kernel);
 
     // ---- receive threads: every frame of a link goes through here
