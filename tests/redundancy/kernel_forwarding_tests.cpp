@@ -382,7 +382,7 @@ std::optional<Frame> receive(link::Link& link, std::chrono::milliseconds timeout
 
 }  // namespace
 
-TEST_CASE("kernel path: attached to veths it forwards on the wire; switched off or detached it does not", "[kbpf]") {
+TEST_CASE("kernel path: attached to veths it forwards on the wire, switched off or detached it does not", "[kbpf]") {
     KernelPath kernel;
     auto far_main = link::PcapLink::open("kf-main-far");
     auto far_red = link::PcapLink::open("kf-red-far");
