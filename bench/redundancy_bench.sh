@@ -41,8 +41,9 @@ wait_for() {  # socket pattern
   for _ in $(seq 300); do "$ctl" status --socket "$1" 2>/dev/null | grep -q "$2" && return 0; sleep 0.1; done
   echo "timed out waiting for '$2' on $1" >&2; return 1
 }
-capture() {  # ns interface file
-  ip netns exec "$1" tshark -q -i "$2" -f 'ether proto 0x88a4' -a "duration:$seconds" -w "$3" >/dev/null 2>&1 &
+capture() {  # ns interface file   (tshark's messages in file.log, shown if it fails)
+  ( ip netns exec "$1" tshark -q -i "$2" -f 'ether proto 0x88a4' -a "duration:$seconds" -w "$3" >"$3.log" 2>&1 ||
+    { cat "$3.log" >&2; exit 1; } ) &
 }
 
 topology_up "$prefix" pair
@@ -76,6 +77,9 @@ echo "   load average: $(cut -d' ' -f1-3 /proc/loadavg)"
 
 echo "== the same veths joined by a kernel bridge instead of m2"
 kill "$m2"; wait "$m2" 2>/dev/null || true; m2=
+# m2's link guard took its links down as it stopped: up again for the bridge.
+ip -n "$prefix-m2" link set m2-main up
+ip -n "$prefix-m2" link set m2-red up
 ip -n "$prefix-m2" link add name br0 type bridge
 ip -n "$prefix-m2" link set m2-main master br0
 ip -n "$prefix-m2" link set m2-red master br0
