@@ -169,7 +169,7 @@ void KernelForwarding::set_answer(ConstBytes master_pd_in, ConstBytes standby_st
 }
 
 StoreAndForwardCounters KernelForwarding::counters() const {
-    std::lock_guard lock(mutex_);
+    std::lock_guard lock(counters_mutex_);
     auto sum = [this](std::uint32_t key) {
         std::fill(per_cpu_.begin(), per_cpu_.end(), 0);
         if (bpf_map_lookup_elem(bpf_map__fd(skeleton_->maps.counters), &key, per_cpu_.data()) != 0) return std::uint64_t{0};

@@ -133,11 +133,11 @@ void RedundancyController::set_kernel_forwarding(std::unique_ptr<KernelForwardin
     if (!kernel_) return;
     kernel_->set_link_state(master::LinkRole::Main, forwarding_.link_state(master::LinkRole::Main));
     kernel_->set_link_state(master::LinkRole::Red, forwarding_.link_state(master::LinkRole::Red));
-    if (state_.load() == RedState::Inactive) attach_kernel_forwarding();
+    if (state_.load() == RedState::Inactive) start_kernel_forwarding();
 }
 
 // A map write, not an attach: the cycle thread must not wait for the kernel here.
-void RedundancyController::attach_kernel_forwarding() {
+void RedundancyController::start_kernel_forwarding() {
     if (!kernel_) return;
     if (!kernel_->attached()) {
         log()->warn("the kernel store-and-forward program is not attached: user space forwards");
@@ -325,7 +325,7 @@ void RedundancyController::change_role(RedState to, master::ProcessImage& image)
         followed_cycle_ = 0;
         announced_handoff_.reset();
         state_.store(RedState::Inactive, std::memory_order_release);
-        attach_kernel_forwarding();
+        start_kernel_forwarding();
         log()->warn("now INACTIVE: sending stops, store-and-forward ({}) and mirror from the partner",
                     to_string(kernel_forwarding_.load() ? ForwardingPath::Kernel : ForwardingPath::User));
         raise(master::EventKind::RedStateChanged, as_number(from), as_number(to));

@@ -21,8 +21,10 @@
 // and when the hand-off acknowledgement changes) and the link states (the
 // link monitor's view). The counters are read from the program's maps.
 //
-// Threads: every member may be called from any thread; set_answer and the
-// link states are serialised by a short lock.
+// Threads: every member may be called from any thread. set_answer and
+// attach/detach are serialised by a short lock; the switch and the link
+// states are single map writes; counters() reads the maps under a lock of
+// its own (a status request never holds up the cycle thread's set_answer).
 
 #include <array>
 #include <cstdint>
@@ -98,7 +100,8 @@ private:
     std::array<int, 2> links_{-1, -1};  // bpf_link fds, -1: not attached
     std::uint32_t answer_slot_ = 0;     // the complete one
     std::vector<std::uint8_t> answer_;  // struct ecpair_kfwd_answer, built here
-    mutable std::vector<std::uint64_t> per_cpu_;
+    mutable std::mutex counters_mutex_;
+    mutable std::vector<std::uint64_t> per_cpu_;  // one counter's value per possible CPU
 };
 
 }  // namespace ecpair::redundancy

@@ -171,7 +171,7 @@ private:
     CmfStandbyStatus standby_status() const;
     // INACTIVE with the kernel path: what user space still does with a frame the kernel forwards.
     void observe_forwarded(master::LinkRole arrived_on, ConstBytes frame, SteadyTime at);
-    void attach_kernel_forwarding();
+    void start_kernel_forwarding();
     void publish_kernel_answer();  // any thread
 
     master::Master& master_;
