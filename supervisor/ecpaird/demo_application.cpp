@@ -50,9 +50,16 @@ bool DemoApplication::matches(const master::ProcessImage& image, const LoopbackC
                       inputs.begin() + check.input_offset);
 }
 
+LoopbackStats DemoApplication::stats() const {
+    return LoopbackStats{stats_.cycles_checked.load(std::memory_order_relaxed),
+                         stats_.mismatches.load(std::memory_order_relaxed),
+                         stats_.slaves_checked.load(std::memory_order_relaxed)};
+}
+
 void DemoApplication::report_mismatch(const master::ProcessImage& image, const LoopbackCheck& check,
                                       std::uint64_t cycle) const {
-    if (stats_.mismatches > kMismatchesLogged) return;
+    const auto mismatches = stats_.mismatches.load(std::memory_order_relaxed);
+    if (mismatches > kMismatchesLogged) return;
     const auto inputs = image.inputs();
     const auto outputs = image.outputs();
     const auto bytes = [&](ConstBytes area, std::uint32_t offset) {
@@ -62,7 +69,7 @@ void DemoApplication::report_mismatch(const master::ProcessImage& image, const L
                          "in the one before (both cycles came back complete){}",
                          cycle, check.slave, bytes(inputs, check.input_offset), bytes(outputs, check.output_offset),
                          bytes(previous_outputs_, check.output_offset),
-                         stats_.mismatches == kMismatchesLogged ? "; further mismatches are only counted" : "");
+                         mismatches == kMismatchesLogged ? "; further mismatches are only counted" : "");
 }
 
 void DemoApplication::on_cycle(master::ProcessImage& image, const master::CycleInfo& info) {
@@ -77,11 +84,11 @@ void DemoApplication::on_cycle(master::ProcessImage& image, const master::CycleI
     // The inputs of this cycle answer the outputs of the previous one(s): check first, then write new outputs.
     if (kind_ == config::DemoKind::LoopbackCheck && info.state == eni::SlaveState::Op && info.inputs_valid &&
         previous_inputs_valid_ && !previous_outputs_.empty()) {
-        ++stats_.cycles_checked;
+        stats_.cycles_checked.fetch_add(1, std::memory_order_relaxed);
         for (const auto& check : checks_) {
-            ++stats_.slaves_checked;
+            stats_.slaves_checked.fetch_add(1, std::memory_order_relaxed);
             if (!matches(image, check, image.outputs()) && !matches(image, check, previous_outputs_)) {
-                ++stats_.mismatches;
+                stats_.mismatches.fetch_add(1, std::memory_order_relaxed);
                 report_mismatch(image, check, info.cycle);
             }
         }

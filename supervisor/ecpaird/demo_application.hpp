@@ -16,6 +16,7 @@
 //    stood by, the outputs it remembers are not the ones the slaves had.
 //    The first mismatches are logged with the cycle, the slave and the bytes.
 
+#include <atomic>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -37,7 +38,8 @@ public:
     DemoApplication(const eni::EniConfig& eni, config::DemoKind kind, std::uint32_t step_cycles);
 
     void on_cycle(master::ProcessImage& image, const master::CycleInfo& info);
-    LoopbackStats stats() const { return stats_; }
+    // Any thread (the operator service reads it while the cycle runs).
+    LoopbackStats stats() const;
     std::size_t checked_slaves() const { return checks_.size(); }
 
 private:
@@ -62,7 +64,10 @@ private:
     std::vector<LoopbackCheck> checks_;
     std::vector<std::uint8_t> previous_outputs_;
     bool previous_inputs_valid_ = false;
-    LoopbackStats stats_;
+    // Written by the cycle thread only, read by any: relaxed atomics.
+    struct AtomicStats {
+        std::atomic<std::uint64_t> cycles_checked{0}, mismatches{0}, slaves_checked{0};
+    } stats_;
 };
 
 }  // namespace ecpair::daemon
