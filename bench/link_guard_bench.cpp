@@ -36,7 +36,7 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
-const std::filesystem::path kEni = std::string(ECPAIR_SOURCE_DIR) + "/tests/data/eni/twincat_kpierczy_5slaves.xml";
+const std::filesystem::path kEni = std::string(ECPAIR_SOURCE_DIR "/tests/data/eni/twincat_kpierczy_5slaves.xml");
 
 EcpairdSettings guarded(const TempDir& dir) {
     EcpairdSettings s;

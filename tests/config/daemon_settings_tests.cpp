@@ -2,6 +2,7 @@
 // error with the line it was written on, syntax errors located.
 
 #include <catch2/catch.hpp>
+#include <fmt/format.h>
 
 #include "ecpair/config/daemon_settings.hpp"
 
@@ -135,8 +136,7 @@ TEST_CASE("the example configurations of a pair are valid and agree on everythin
           "[config]") {
     std::vector<ecpair::config::DaemonSettings> members;
     for (const char* name : {"controller-a", "controller-b"}) {
-        auto s = ecpair::config::load_daemon_settings(std::string(ECPAIR_TEST_DATA_DIR) + "/../../deploy/config/" + name +
-                                                      ".textproto");
+        auto s = ecpair::config::load_daemon_settings(fmt::format("{}/../../deploy/config/{}.textproto", ECPAIR_TEST_DATA_DIR, name));
         INFO(name);
         REQUIRE(s);
         CHECK(s->name == name);

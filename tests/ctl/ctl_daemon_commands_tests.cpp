@@ -11,6 +11,7 @@
 #include <fstream>
 #include <limits>
 #include <sstream>
+#include <fmt/format.h>
 
 #include "control_server_fixture.hpp"
 #include "ctl_commands.hpp"
@@ -293,8 +294,8 @@ TEST_CASE("ecpairctl run as another user: 4, naming the socket's mode and group"
     ServerFixture f(settings);
     std::filesystem::permissions(f.dir.path(), std::filesystem::perms::all);
     const std::string out = (f.dir / "out.txt").string();
-    const std::string command = "setpriv --reuid=nobody --regid=nogroup --clear-groups " + std::string(ECPAIR_ECPAIRCTL) +
-                                " status --socket " + f.path + " 2>" + out;
+    const std::string command = fmt::format("setpriv --reuid=nobody --regid=nogroup --clear-groups {} status --socket {} 2>{}",
+                                            ECPAIR_ECPAIRCTL, f.path, out);
     const int status = std::system(command.c_str());
     REQUIRE(WIFEXITED(status));
     CHECK(WEXITSTATUS(status) == kExitDenied);

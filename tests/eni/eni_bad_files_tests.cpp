@@ -112,7 +112,7 @@ TEST_CASE("every broken ENI gives its promised error", "[eni][bad]") {
 TEST_CASE("every file in eni_bad has an expected error", "[eni][bad]") {
     std::set<std::string> listed;
     for (const auto& expected : expected_errors()) listed.insert(expected.file);
-    for (const auto& entry : std::filesystem::directory_iterator(std::string(ECPAIR_TEST_DATA_DIR) + "/eni_bad")) {
+    for (const auto& entry : std::filesystem::directory_iterator(std::string(ECPAIR_TEST_DATA_DIR "/eni_bad"))) {
         INFO(entry.path().filename().string());
         CHECK(listed.count(entry.path().filename().string()) == 1);
     }
@@ -134,7 +134,7 @@ TEST_CASE("file problems: missing, a directory", "[eni][bad]") {
     CHECK_THAT(missing.error().message, Catch::Contains("cannot open the file"));
     CHECK(missing.error().describe() == bad_eni("no_such_file.xml") + ": " + missing.error().message);
 
-    const auto directory = load_eni_file(std::string(ECPAIR_TEST_DATA_DIR) + "/eni_bad");
+    const auto directory = load_eni_file(std::string(ECPAIR_TEST_DATA_DIR "/eni_bad"));
     REQUIRE_FALSE(directory.has_value());
     CHECK_THAT(directory.error().message, Catch::Contains("not a regular file"));
 }

@@ -284,7 +284,7 @@ TEST_CASE("the SII advertises the SyncManagers the ENI's InitCmds write, and the
     // An older TwinCAT export writes the mailbox SMs with the ECAT event bit
     // (0x36/0x32) and has no Sm0/Sm1 elements: a real slave's ESI (and so its
     // SII) said 0x36/0x32, so the emulated one does too.
-    const auto loaded = eni::load_eni_file(std::string(ECPAIR_TEST_DATA_DIR) + "/eni_extra/twincat_mailbox_irq_2slaves.xml");
+    const auto loaded = eni::load_eni_file(std::string(ECPAIR_TEST_DATA_DIR "/eni_extra/twincat_mailbox_irq_2slaves.xml"));
     REQUIRE(loaded.has_value());
     const auto& servo = loaded.value()->slaves.at(1);
     const auto description = EscDescription::from_eni(servo);
@@ -325,7 +325,7 @@ TEST_CASE("the SII advertises the SyncManagers the ENI's InitCmds write, and the
 }
 
 TEST_CASE("the bootstrap mailbox comes from the INIT -> BOOT InitCmds") {
-    const auto loaded = eni::load_eni_file(std::string(ECPAIR_TEST_ENI_DIR) + "/twincat_kpierczy_5slaves.xml");
+    const auto loaded = eni::load_eni_file(std::string(ECPAIR_TEST_ENI_DIR "/twincat_kpierczy_5slaves.xml"));
     REQUIRE(loaded.has_value());
     const auto description = EscDescription::from_eni(loaded.value()->slaves.at(0));
     const auto bootstrap = std::count_if(description.sm_init_writes.begin(), description.sm_init_writes.end(),

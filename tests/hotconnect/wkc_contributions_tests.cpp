@@ -50,7 +50,7 @@ TEST_CASE("LWR/LRD and BRD follow the bus", "[hotconnect]") {
 }
 
 TEST_CASE("LRW counts read 1 + write 2, split LRW as LWR + LRD, no Cnt stays unchecked", "[hotconnect]") {
-    const auto eni = eni::load_eni_file(std::string(ECPAIR_TEST_DATA_DIR) + "/eni_extra/hotconnect_groups_4slaves.xml");
+    const auto eni = eni::load_eni_file(std::string(ECPAIR_TEST_DATA_DIR "/eni_extra/hotconnect_groups_4slaves.xml"));
     REQUIRE(eni);
     auto plan = master::CyclicPlan::build(**eni, {});
     REQUIRE(plan);

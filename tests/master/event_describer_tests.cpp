@@ -22,7 +22,7 @@ namespace {
 // EK1100 (1001), EL2008 (1002, outputs at 0x01000000), EL1008 (1003, inputs at 0x01000800);
 // one cyclic frame: BRD AL status (Cnt 3), LWR 0x01000000 (Cnt 1), LRD 0x01000800 (Cnt 1).
 std::shared_ptr<const eni::EniConfig> load_digital_io() {
-    auto loaded = eni::load_eni_file(std::string(ECPAIR_TEST_DATA_DIR) + "/eni_extra/digital_io_device_emulation_3slaves.xml");
+    auto loaded = eni::load_eni_file(std::string(ECPAIR_TEST_DATA_DIR "/eni_extra/digital_io_device_emulation_3slaves.xml"));
     REQUIRE(loaded);
     return *loaded;
 }

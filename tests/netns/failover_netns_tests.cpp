@@ -27,10 +27,10 @@ using ecpair::control::StatusReply;
 
 namespace {
 
-const std::filesystem::path kEni = std::string(ECPAIR_TEST_ENI_DIR) + "/twincat_kpierczy_5slaves.xml";
+const std::filesystem::path kEni = std::string(ECPAIR_TEST_ENI_DIR "/twincat_kpierczy_5slaves.xml");
 // No watchdog InitCmds: every ESC keeps the 100 ms after reset; an EL7201
 // with a stack and an EL2008 in device emulation have output SMs that arm it.
-const std::filesystem::path kTree = std::string(ECPAIR_TEST_DATA_DIR) + "/eni_extra/tree_ek1122_7slaves.xml";
+const std::filesystem::path kTree = std::string(ECPAIR_TEST_DATA_DIR "/eni_extra/tree_ek1122_7slaves.xml");
 constexpr double kDefaultSmWatchdogUs = 100'000;  // (2498 + 2) x 40 ns x 1000
 
 PairSetup pair_setup() {

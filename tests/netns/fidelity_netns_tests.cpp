@@ -13,6 +13,7 @@
 #include <vector>
 
 #include <catch2/catch.hpp>
+#include <fmt/format.h>
 
 #include "ecpaird_process.hpp"
 #include "ecsim_process.hpp"
@@ -26,7 +27,7 @@ using ecpair::control::StatusReply;
 namespace {
 
 std::filesystem::path extra_eni(const std::string& file) {
-    return std::string(ECPAIR_TEST_DATA_DIR) + "/eni_extra/" + file;
+    return fmt::format("{}/eni_extra/{}", ECPAIR_TEST_DATA_DIR, file);
 }
 
 const auto kTree = extra_eni("tree_ek1122_7slaves.xml");

@@ -26,7 +26,7 @@ using ecpair::control::StatusReply;
 
 namespace {
 
-const std::filesystem::path kEni = std::string(ECPAIR_TEST_ENI_DIR) + "/twincat_kpierczy_5slaves.xml";
+const std::filesystem::path kEni = std::string(ECPAIR_TEST_ENI_DIR "/twincat_kpierczy_5slaves.xml");
 // Bounds a wait for something that must happen; it measures nothing.
 constexpr auto kPatience = 10s;
 constexpr std::chrono::milliseconds kHangTimeout{150};

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include <catch2/catch.hpp>
+#include <fmt/format.h>
 
 #include "ecpair/sim/eni_generator.hpp"
 #include "ecpaird_process.hpp"
@@ -36,7 +37,7 @@ std::filesystem::path generated_eni(const TempDir& dir, std::uint32_t slaves) {
     return path;
 }
 
-std::filesystem::path shared_eni(const std::string& file) { return std::string(ECPAIR_TEST_ENI_DIR) + "/" + file; }
+std::filesystem::path shared_eni(const std::string& file) { return fmt::format("{}/{}", ECPAIR_TEST_ENI_DIR, file); }
 
 // ecsim `status` is one line of key=value pairs.
 std::string ecsim_status_line(const EcsimProcess& ecsim) { return ecsim.ctl("status").second; }

@@ -48,7 +48,7 @@ TEST_CASE("operator socket: 1,000 idle clients, and ecpaird still answers while 
     TempDir dir{"ecpair-socket"};
     RingTopology topology(Controllers::Single);
     EcpairdSettings settings;
-    settings.eni = std::string(ECPAIR_TEST_ENI_DIR) + "/twincat_kpierczy_5slaves.xml";
+    settings.eni = std::string(ECPAIR_TEST_ENI_DIR "/twincat_kpierczy_5slaves.xml");
     settings.dir = dir.path();
     settings.extra_config = "cycle_time_us: 1000\n";
     settings.control_extra = "request_timeout_ms: 600000";  // they stay for the whole test

@@ -29,7 +29,7 @@ using ecpair::control::StatusReply;
 
 namespace {
 
-const std::filesystem::path kEni = std::string(ECPAIR_TEST_ENI_DIR) + "/twincat_kpierczy_5slaves.xml";
+const std::filesystem::path kEni = std::string(ECPAIR_TEST_ENI_DIR "/twincat_kpierczy_5slaves.xml");
 
 EcpairdSettings member(const std::string& name, const std::string& initial, const TempDir& dir,
                        const std::filesystem::path& eni = kEni, const std::string& extra = "") {

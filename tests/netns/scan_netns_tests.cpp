@@ -4,6 +4,7 @@
 // find no malformed frame (esc-facts.md §4).
 
 #include <catch2/catch.hpp>
+#include <fmt/format.h>
 
 #include "ecsim_process.hpp"
 #include "netns.hpp"
@@ -54,7 +55,7 @@ TEST_CASE("ecpairctl scan finds every slave of every shared ENI on ecsim, tshark
             TempDir dir("ecpair-scan");
             TestNamespace ns("ecpt-scan");
             ns.create_veth("sim-main", "probe0");
-            const std::string eni = std::string(ECPAIR_TEST_ENI_DIR) + "/" + file;
+            const std::string eni = fmt::format("{}/{}", ECPAIR_TEST_ENI_DIR, file);
             EcsimProcess ecsim(ns, {eni, "sim-main", std::nullopt, dir.path()});
 
             const auto result = scan(ns, dir, eni);
@@ -75,7 +76,7 @@ TEST_CASE("ecpairctl scan names an unknown slave and a missing one", "[netns][sc
     TempDir dir("ecpair-scan");
     TestNamespace ns("ecpt-scan");
     ns.create_veth("sim-main", "probe0");
-    const std::string eni = std::string(ECPAIR_TEST_ENI_DIR) + "/twincat_kpierczy_5slaves.xml";
+    const std::string eni = std::string(ECPAIR_TEST_ENI_DIR "/twincat_kpierczy_5slaves.xml");
     EcsimProcess ecsim(ns, {eni, "sim-main", std::nullopt, dir.path()});
 
     REQUIRE(ecsim.ctl("insert-unknown 2").first == 0);

@@ -86,7 +86,7 @@ TEST_CASE("systemd notify: READY, WATCHDOG while running, none while stopped, ST
     RingTopology topology(Controllers::Single);
     NotifySocket notify((dir / "notify.sock").string());
     EcpairdSettings settings;
-    settings.eni = std::string(ECPAIR_TEST_ENI_DIR) + "/twincat_kpierczy_5slaves.xml";
+    settings.eni = std::string(ECPAIR_TEST_ENI_DIR "/twincat_kpierczy_5slaves.xml");
     settings.dir = dir.path();
     // The child inherits the environment at its start; nothing else here starts children meanwhile.
     ::setenv("NOTIFY_SOCKET", notify.path().c_str(), 1);

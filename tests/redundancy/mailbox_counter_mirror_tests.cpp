@@ -15,7 +15,7 @@ using namespace ecpair;
 
 namespace {
 
-const std::string kEni = std::string(ECPAIR_TEST_ENI_DIR) + "/twincat_kpierczy_5slaves.xml";
+const std::string kEni = std::string(ECPAIR_TEST_ENI_DIR "/twincat_kpierczy_5slaves.xml");
 
 // An FPWR of a slave's whole SM0 carrying a mailbox message with `counter`.
 std::vector<std::uint8_t> mailbox_write(const sequencer::MailboxChannel& mailbox, std::uint8_t counter) {

@@ -75,7 +75,7 @@ TEST_CASE("ecsim fails to start with exit status 1 and says why", "[ecsim][cli]"
     CHECK(missing.status == 1);
     CHECK_THAT(missing.output, Catch::Contains("/nonexistent/eni.xml"));
 
-    const auto no_interface = run_ecsim({"--eni", std::string(ECPAIR_TEST_ENI_DIR) + "/twincat_kpierczy_5slaves.xml",
+    const auto no_interface = run_ecsim({"--eni", std::string(ECPAIR_TEST_ENI_DIR "/twincat_kpierczy_5slaves.xml"),
                                          "--main-if", "ecsim-nosuch0", "--control", "/tmp/ecsim-cli-never.sock"});
     CHECK(no_interface.status == 1);
     CHECK_THAT(no_interface.output, Catch::Contains("MAIN: ") && Catch::Contains("ecsim-nosuch0"));

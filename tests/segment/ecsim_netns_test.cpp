@@ -37,7 +37,7 @@ public:
         ns_.create_veth("sim-main", "probe-main");
         ns_.create_veth("sim-red", "probe-red");
         ecsim_.emplace(std::vector<std::string>{kEcsim, "--eni",
-                                                std::string(ECPAIR_TEST_ENI_DIR) + "/twincat_kpierczy_5slaves.xml",
+                                                std::string(ECPAIR_TEST_ENI_DIR "/twincat_kpierczy_5slaves.xml"),
                                                 "--main-if", "sim-main", "--red-if", "sim-red", "--control",
                                                 control().string(), "--pcap", pcap().string(), "--log-level", "debug"},
                        dir_.path() / "ecsim.log", &ns_);

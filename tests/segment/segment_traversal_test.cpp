@@ -67,7 +67,7 @@ TEST_CASE("a frame entering at RED leaves at MAIN unprocessed", "[segment]") {
 }
 
 TEST_CASE("a segment built from a real ENI carries frames around its ring", "[segment][eni]") {
-    const auto config = eni::load_eni_file(std::string(ECPAIR_TEST_ENI_DIR) + "/twincat_kpierczy_5slaves.xml");
+    const auto config = eni::load_eni_file(std::string(ECPAIR_TEST_ENI_DIR "/twincat_kpierczy_5slaves.xml"));
     REQUIRE(config);
     auto segment = Segment::from_eni(**config);
     REQUIRE(segment);

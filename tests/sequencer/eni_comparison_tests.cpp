@@ -126,7 +126,7 @@ TEST_CASE("Identification: station alias and explicit device ID", "[sequencer][s
 class HotConnectEni {
 public:
     HotConnectEni() {
-        auto loaded = eni::load_eni_file(std::string(ECPAIR_TEST_DATA_DIR) + "/eni_extra/hotconnect_groups_4slaves.xml");
+        auto loaded = eni::load_eni_file(std::string(ECPAIR_TEST_DATA_DIR "/eni_extra/hotconnect_groups_4slaves.xml"));
         REQUIRE(loaded);
         eni = *loaded;
     }

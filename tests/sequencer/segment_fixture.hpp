@@ -10,6 +10,7 @@
 #include <mutex>
 #include <string>
 #include <vector>
+#include <fmt/format.h>
 
 #include "ecpair/eni/loader.hpp"
 #include "ecpair/sequencer/master_state_machine.hpp"
@@ -20,8 +21,8 @@ namespace ecpair::test {
 
 // A modifiable copy of a real ENI from tests/data/eni (or a path under tests/data).
 inline std::shared_ptr<eni::EniConfig> load_eni_copy(const std::string& name) {
-    const auto path = name.find('/') == std::string::npos ? std::string(ECPAIR_TEST_ENI_DIR) + "/" + name
-                                                          : std::string(ECPAIR_TEST_DATA_DIR) + "/" + name;
+    const auto path = name.find('/') == std::string::npos ? fmt::format("{}/{}", ECPAIR_TEST_ENI_DIR, name)
+                                                          : fmt::format("{}/{}", ECPAIR_TEST_DATA_DIR, name);
     auto loaded = eni::load_eni_file(path);
     REQUIRE(loaded);
     return std::make_shared<eni::EniConfig>(**loaded);

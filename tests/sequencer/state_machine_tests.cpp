@@ -15,7 +15,7 @@ using sequencer::MasterState;
 using sequencer::SequenceFailure;
 
 std::shared_ptr<const eni::EniConfig> cherry() {
-    auto loaded = eni::load_eni_file(std::string(ECPAIR_TEST_ENI_DIR) + "/twincat_cherryecat_cia402_1slave.xml");
+    auto loaded = eni::load_eni_file(std::string(ECPAIR_TEST_ENI_DIR "/twincat_cherryecat_cia402_1slave.xml"));
     REQUIRE(loaded);
     return *loaded;
 }

@@ -6,6 +6,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <fmt/format.h>
 
 #include "ecpair/common/bytes.hpp"
 #include "ecpair/eni/loader.hpp"
@@ -21,7 +22,7 @@ using eni::Transition;
 using sequencer::MasterState;
 
 std::shared_ptr<const eni::EniConfig> load(const std::string& name) {
-    auto loaded = eni::load_eni_file(std::string(ECPAIR_TEST_ENI_DIR) + "/" + name);
+    auto loaded = eni::load_eni_file(fmt::format("{}/{}", ECPAIR_TEST_ENI_DIR, name));
     REQUIRE(loaded);
     return *loaded;
 }

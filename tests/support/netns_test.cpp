@@ -103,7 +103,7 @@ TEST_CASE("a child that cannot be started is an error naming it", "[netns]") {
 
 TEST_CASE("a process killed by a fatal signal removes its namespaces", "[netns]") {
     // The victim creates a namespace, prints its path and raises SIGTERM.
-    ChildProcess victim({std::string(ECPAIR_BINARY_DIR) + "/tests/support/netns_signal_victim", "SIGTERM"},
+    ChildProcess victim({std::string(ECPAIR_BINARY_DIR "/tests/support/netns_signal_victim"), "SIGTERM"},
                         log_path("victim"));
     REQUIRE(victim.wait_for_exit(std::chrono::seconds(30)) == 128 + SIGTERM);
     const std::string output = victim.log();

@@ -43,7 +43,7 @@ using ecpair::control::StatusReply;
 
 namespace {
 
-const std::filesystem::path kEni = std::string(ECPAIR_TEST_ENI_DIR) + "/twincat_kpierczy_5slaves.xml";
+const std::filesystem::path kEni = std::string(ECPAIR_TEST_ENI_DIR "/twincat_kpierczy_5slaves.xml");
 constexpr const char* kM1Address = "10.77.0.1";
 constexpr const char* kM2Address = "10.77.0.2";
 
@@ -197,7 +197,7 @@ void check_dissector(const BridgedPair& pair) {
                   "tshark -q -i m1-red -f 'ether proto 0x88a4' -a duration:1 -w " + file.string(),
                   [&] { pair.topology.m1().exec(std::string("ping -n -c 5 -i 0.05 ") + kM2Address + " >/dev/null 2>&1"); });
     REQUIRE(std::filesystem::exists(file));
-    const std::string lua = "lua_script:" + std::string(ECPAIR_SOURCE_DIR) + "/deploy/wireshark/ecpair.lua";
+    const std::string lua = "lua_script:" + std::string(ECPAIR_SOURCE_DIR "/deploy/wireshark/ecpair.lua");
     // One pass (tshark is slow to start on a loaded machine): the first CMF
     // HEADER and the first bridge datagram of each frame.
     const auto r = run_tshark(file, {"-X", lua, "-Y", "ecpair", "-T", "fields", "-E", "occurrence=f", "-e",
