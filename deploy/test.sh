@@ -85,12 +85,13 @@ stage_tsan() {
   # Every process (the tests and the ecpaird/ecsim they start) writes its
   # reports to $reports/tsan.<pid>; any report fails the stage.
   export TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1 log_path=$reports/tsan suppressions=$(pwd)/deploy/tsan.supp"
-  local status=0 t log
-  for t in "${tsan_unit_tests[@]}"; do
-    log=$reports/$(basename "$t").log
-    echo "   $t"
-    "${run[@]}" "build-tsan/tests/$t" >"$log" 2>&1 || { tail -30 "$log"; status=1; }
-  done
+  local status=0
+  # Two unit test binaries at a time (one per core); each logs to its own file.
+  echo "   unit tests: ${tsan_unit_tests[*]}"
+  printf '%s\n' "${tsan_unit_tests[@]}" |
+    xargs -P2 -I{} bash -c 'log="$1/$(basename "$2").log"
+                            "${@:3}" "build-tsan/tests/$2" >"$log" 2>&1 || { echo "   FAILED: $2"; tail -30 "$log"; exit 1; }' \
+      _ "$reports" {} "${run[@]}" || status=1
   echo "   netns: master, pair, TAP bridge"
   "${run[@]}" build-tsan/tests/netns/master_netns_tests \
     "ecpaird brings a generated segment to OP with cable redundancy and data flows both ways" || status=1
