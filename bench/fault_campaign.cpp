@@ -37,6 +37,7 @@
 #include <thread>
 
 #include <boost/program_options.hpp>
+#include <fmt/format.h>
 
 #include "ecpair/link/pcap_link.hpp"
 #include "ecpair/wire/frame.hpp"
@@ -130,9 +131,9 @@ private:
                 static const char* kCables[] = {"the ACTIVE's MAIN", "the ring's return", "master-master",
                                                 "between slaves"};
                 const int after = pick(1, static_cast<int>(kSlaves) - 1);
-                e.what = std::string("cable pulled: ") + kCables[which] +
-                         (which == 3 ? " " + std::to_string(after) + "/" + std::to_string(after + 1) : "") + ", " +
-                         std::to_string(pulled.count()) + " ms";
+                e.what = fmt::format("cable pulled: {}{}, {} ms", kCables[which],
+                                     which == 3 ? fmt::format(" {}/{}", after, after + 1) : std::string(),
+                                     pulled.count());
                 cable(which, after, active, false);
                 std::this_thread::sleep_for(pulled);
                 cable(which, after, active, true);

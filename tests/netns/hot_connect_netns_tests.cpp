@@ -12,6 +12,7 @@
 #include <fstream>
 
 #include <catch2/catch.hpp>
+#include <fmt/format.h>
 
 #include "ecpair/sim/eni_generator.hpp"
 #include "ecpaird_process.hpp"
@@ -100,8 +101,8 @@ EcpairdSettings master_settings(const std::string& name, const std::filesystem::
     s.dir = dir.path();
     s.demo = "WALKING_BIT";  // the loopback check would count an absent group's slaves as mismatches
     const bool own_hot_connect = extra.find("hot_connect") != std::string::npos;
-    s.extra_config = std::string("cycle_time_us: 1000\n") +
-                     (own_hot_connect ? "" : "hot_connect { detection_timeout_ms: 5000 }\n") + extra;
+    s.extra_config = fmt::format("cycle_time_us: 1000\n{}{}", own_hot_connect ? "" : "hot_connect { detection_timeout_ms: 5000 }\n",
+                                   extra);
     return s;
 }
 

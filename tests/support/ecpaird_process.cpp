@@ -7,6 +7,7 @@
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
+#include <fmt/format.h>
 
 #include "ecpair/control/control_client.hpp"
 #include "ecsim_process.hpp"
@@ -24,7 +25,7 @@ std::string with_forwarding_from_environment(std::string config) {
     if (path == nullptr || *path == '\0') return config;
     const std::string block = "redundancy {";
     const auto at = config.find(block);
-    if (at != std::string::npos) config.insert(at + block.size(), std::string(" forwarding: ") + path + " ");
+    if (at != std::string::npos) config.insert(at + block.size(), fmt::format(" forwarding: {} ", path));
     return config;
 }
 

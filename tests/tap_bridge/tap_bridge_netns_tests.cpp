@@ -26,6 +26,7 @@
 #include <unistd.h>
 
 #include <catch2/catch.hpp>
+#include <fmt/format.h>
 
 #include "ecpair/link/pcap_link.hpp"
 #include "ecpair/tap_bridge/bridge_datagram.hpp"
@@ -195,7 +196,7 @@ void check_dissector(const BridgedPair& pair) {
     const auto file = pair.dir / "m1-red.pcapng";
     capture_while(pair.topology.m1(),
                   "tshark -q -i m1-red -f 'ether proto 0x88a4' -a duration:1 -w " + file.string(),
-                  [&] { pair.topology.m1().exec(std::string("ping -n -c 5 -i 0.05 ") + kM2Address + " >/dev/null 2>&1"); });
+                  [&] { pair.topology.m1().exec(fmt::format("ping -n -c 5 -i 0.05 {} >/dev/null 2>&1", kM2Address)); });
     REQUIRE(std::filesystem::exists(file));
     const std::string lua = "lua_script:" + std::string(ECPAIR_SOURCE_DIR "/deploy/wireshark/ecpair.lua");
     // One pass (tshark is slow to start on a loaded machine): the first CMF
@@ -268,8 +269,8 @@ TEST_CASE("IP between the masters: ping both ways, TCP with checksums, the TAP s
     CHECK(pair.ping(pair.topology.m1(), kM2Address) == 0);
     CHECK(pair.ping(pair.topology.m2(), kM1Address) == 0);
     const auto types = ether_types_on(pair.topology.m2(), "ecpair0", 40, [&] {
-        pair.topology.m1().exec(std::string("ping -n -c 2 -i 0.05 ") + kM2Address + " >/dev/null 2>&1");
-        pair.topology.m2().exec(std::string("ping -n -c 2 -i 0.05 ") + kM1Address + " >/dev/null 2>&1");
+        pair.topology.m1().exec(fmt::format("ping -n -c 2 -i 0.05 {} >/dev/null 2>&1", kM2Address));
+        pair.topology.m2().exec(fmt::format("ping -n -c 2 -i 0.05 {} >/dev/null 2>&1", kM1Address));
     });
     CHECK(types.size() == 40);
     for (const auto type : types) {
