@@ -560,3 +560,28 @@ TEST_CASE("the operator can make a standby ACTIVE and an ACTIVE step down", "[su
     CHECK_FALSE(h.active());
     CHECK(h.state() == SupervisorState::Standby);
 }
+
+TEST_CASE("a standby forced after it acknowledged a hand-off does not take the bus", "[supervisor]") {
+    auto owner = standing_by();
+    auto& h = *owner;
+    SECTION("forced before the acknowledgement is acted on") {
+        h.announced_handoff = h.seen.cycle + 10;
+        h.partner_cmf();  // acknowledged: the supervisor was ready
+        REQUIRE(h.seen.acknowledged_handoff == h.announced_handoff);
+        h.supervisor.force_standby(true);
+    }
+    SECTION("forced while the hand-off is pending") {
+        h.announced_handoff = h.seen.cycle + 10;
+        h.partner_cmf();
+        h.cycle();
+        REQUIRE(h.state() == SupervisorState::HandOffPending);
+        h.supervisor.force_standby(true);
+    }
+    for (int i = 0; i < 30; ++i) {  // past the announced cycle, the stale acknowledgement still seen
+        h.partner_cmf();
+        h.cycle();
+        CHECK_FALSE(h.active());
+        CHECK(h.state() != SupervisorState::HandOffPending);
+        CHECK_FALSE(h.last.ready_for_handoff);
+    }
+}

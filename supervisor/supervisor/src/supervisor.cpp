@@ -330,7 +330,9 @@ void Supervisor::on_standby(const Observation& seen) {
     }
     if (seen.heard) epoch_ = std::max(epoch_, seen.heard->sender.epoch);
 
-    if (seen.heard && seen.heard->same_fingerprint && seen.heard->flags.handoff_request &&
+    // A forced standby never takes a hand-off, even one acknowledged before the force was applied
+    // (the acknowledgement is withdrawn with the next CMF; the ACTIVE then cancels).
+    if (!forced_ && seen.heard && seen.heard->same_fingerprint && seen.heard->flags.handoff_request &&
         seen.acknowledged_handoff == seen.heard->sender.handoff_cycle) {
         pending_handoff_ = seen.heard->sender.handoff_cycle;
         switchover_requested_ = false;
@@ -378,6 +380,15 @@ void Supervisor::partner_silent(const Observation& seen) {
 void Supervisor::on_handoff_pending(const Observation& seen) {
     if (seen.cmfs_completed != cmfs_seen_) comm_.heard(seen.now);
     const auto h = *pending_handoff_;
+    if (forced_) {
+        ++counters_.handoffs_cancelled;
+        pending_handoff_.reset();
+        transition(SupervisorState::Standby,
+                   fmt::format("forced to standby: the hand-off at cycle {} is not taken (the ACTIVE keeps the bus "
+                               "unless it has stepped down already)",
+                               h));
+        return;
+    }
     if (seen.heard && seen.heard->same_fingerprint &&
         (!seen.heard->flags.handoff_request || seen.heard->sender.handoff_cycle != h)) {
         raise(master::EventKind::HandOff, code(master::HandOffPhase::Cancelled), static_cast<std::uint32_t>(h),
