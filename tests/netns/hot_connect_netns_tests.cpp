@@ -181,9 +181,9 @@ TEST_CASE("a 4-slave group leaves and joins while the master stays in OP: no cyc
     CHECK(std::all_of(joined->slaves().begin(), joined->slaves().end(), [](const auto& s) { return s.present(); }));
 
     bus.ctl("group-off 1");
-    text = bus.next_change_done(done);
-    REQUIRE(text);
-    CHECK_THAT(*text, Catch::Contains("ok; 1 of 2 optional group(s) present"));
+    // The join may have ended in more than one change (a frame lost while the group came up is
+    // looked at again): wait for the change that has group 1 gone, not for the next one.
+    REQUIRE(bus.events->wait_for("topology-change-done", "ok; 1 of 2 optional group(s) present", kChange));
     const auto left = m1.wait_for([](const StatusReply& s) { return s.hot_connect().groups_present() == 1; }, kChange);
     REQUIRE(left);
     std::this_thread::sleep_for(300ms);  // a few hundred cycles in the new topology
