@@ -9,7 +9,6 @@ packages=(
   libpcap-dev libtinyxml2-dev libspdlog-dev libfmt-dev libsystemd-dev
   catch2 libprotobuf-dev protobuf-compiler
   libbenchmark-dev
-  libbpf-dev clang bpftool
   iproute2 tshark procps iputils-ping
 )
 

@@ -10,7 +10,6 @@
 
 #include "ecpair/common/log.hpp"
 #include "ecpair/eni/loader.hpp"
-#include "forwarding_path.hpp"
 
 namespace ecpair::daemon {
 namespace {
@@ -244,12 +243,6 @@ int Daemon::open_redundancy() {
         tap_bridge_ = std::move(*bridge);
         redundancy_->set_acyclic_channel(&tap_bridge_->channel());
     }
-    auto forwarding = open_forwarding_path(settings_);
-    if (!forwarding) {
-        log()->error("{}", forwarding.error());
-        return kLinkFailure;
-    }
-    redundancy_->set_kernel_forwarding(std::move(*forwarding));
     return kOk;
 }
 
