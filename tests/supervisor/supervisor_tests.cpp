@@ -576,6 +576,14 @@ TEST_CASE("a standby forced after it acknowledged a hand-off does not take the b
         h.cycle();
         REQUIRE(h.state() == SupervisorState::HandOffPending);
         h.supervisor.force_standby(true);
+        h.partner_cmf();
+        h.cycle();
+        // The operator reads why the announced switchover did not happen.
+        const auto* cancelled = h.find(EventKind::HandOff);
+        REQUIRE(cancelled);
+        CHECK(cancelled->a == static_cast<std::uint32_t>(master::HandOffPhase::Cancelled));
+        CHECK(cancelled->b == static_cast<std::uint32_t>(*h.announced_handoff));
+        CHECK(cancelled->c == static_cast<std::uint32_t>(master::HandOffRefusal::ForcedStandby));
     }
     for (int i = 0; i < 30; ++i) {  // past the announced cycle, the stale acknowledgement still seen
         h.partner_cmf();

@@ -118,6 +118,8 @@ std::string_view to_string(HandOffRefusal refusal) {
         case HandOffRefusal::NotActive: return "this master is not ACTIVE";
         case HandOffRefusal::AlreadyRunning: return "a hand-off is already under way";
         case HandOffRefusal::PartnerLost: return "the partner went silent";
+        case HandOffRefusal::ForcedStandby:
+            return "this master was forced to standby (the ACTIVE keeps the bus unless it has stepped down already)";
     }
     return "unknown reason";
 }

@@ -381,6 +381,8 @@ void Supervisor::on_handoff_pending(const Observation& seen) {
     if (seen.cmfs_completed != cmfs_seen_) comm_.heard(seen.now);
     const auto h = *pending_handoff_;
     if (forced_) {
+        raise(master::EventKind::HandOff, code(master::HandOffPhase::Cancelled), static_cast<std::uint32_t>(h),
+              code(master::HandOffRefusal::ForcedStandby));
         ++counters_.handoffs_cancelled;
         pending_handoff_.reset();
         transition(SupervisorState::Standby,

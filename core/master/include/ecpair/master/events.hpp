@@ -94,6 +94,7 @@ enum class HandOffRefusal : std::uint8_t {
     NotActive,            // this master is not ACTIVE and its partner did not hand off
     AlreadyRunning,       // a hand-off is under way
     PartnerLost,          // the partner went silent during the hand-off
+    ForcedStandby,        // this master was forced to standby while it was to take over
 };
 // "the partner is forced to standby" (for events and operator replies).
 std::string_view to_string(HandOffRefusal refusal);
