@@ -103,14 +103,20 @@ std::string execute_control_request(Segment& segment, const ControlRequest& requ
                                        port_letter(request.port)));
         case ControlCommand::UnplugGroup:
             return outcome(segment.unplug_group(request.group), fmt::format("group {} unplugged", request.group));
-        case ControlCommand::PlugUnknown:
+        // The number the plugged slave gets, read before the plug adds it
+        // (the order in which a call's arguments are evaluated is unspecified).
+        case ControlCommand::PlugUnknown: {
+            const auto added_as = segment.slave_count() + 1;
             return outcome(segment.plug_unknown_slave(k, request.port),
                            fmt::format("unknown slave plugged into slave {} port {} as slave {}", k,
-                                       port_letter(request.port), segment.slave_count() + 1));
-        case ControlCommand::PlugDuplicate:
+                                       port_letter(request.port), added_as));
+        }
+        case ControlCommand::PlugDuplicate: {
+            const auto added_as = segment.slave_count() + 1;
             return outcome(segment.plug_duplicate(k, request.at, request.port),
                            fmt::format("a duplicate of slave {} plugged into slave {} port {} as slave {}", k,
-                                       request.at, port_letter(request.port), segment.slave_count() + 1));
+                                       request.at, port_letter(request.port), added_as));
+        }
         case ControlCommand::RefuseState: {
             const auto state = request.state == 0 ? std::nullopt
                                                   : std::optional<eni::SlaveState>(static_cast<eni::SlaveState>(request.state));
