@@ -4,5 +4,9 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash deploy/install-deps.sh
+# Ninja starts a target's compiles before the libraries it links are linked
+# (make waits), which keeps both cores busy. A tree configured before with
+# another generator keeps it: CMake reads this only for a new tree.
+export CMAKE_GENERATOR="${CMAKE_GENERATOR:-Ninja}"
 cmake -S . -B build -DCMAKE_BUILD_TYPE=RelWithDebInfo "$@"
 cmake --build build -j"$(nproc)"

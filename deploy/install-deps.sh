@@ -4,11 +4,12 @@
 set -euo pipefail
 
 packages=(
-  build-essential cmake pkg-config git
+  build-essential cmake ninja-build pkg-config git
   libboost-dev libboost-program-options-dev
   libpcap-dev libtinyxml2-dev libspdlog-dev libfmt-dev libsystemd-dev
   catch2 libprotobuf-dev protobuf-compiler
   libbenchmark-dev
+  clang libclang-rt-dev llvm
   iproute2 tshark procps iputils-ping
 )
 
