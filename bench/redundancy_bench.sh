@@ -2,8 +2,10 @@
 # Redundancy figures on veth, in network namespaces:
 #   1. the store-and-forward delay the INACTIVE adds (p50/p99/max, from the
 #      timestamps of the same frame arriving at one of its adapters and
-#      leaving by the other), and the same for a plain kernel bridge between
-#      the same two veths, measured right after in the same run;
+#      leaving by the other), on both of its paths (user space, then the
+#      kernel's BPF program: redundancy.forwarding USER and KERNEL), and the
+#      same for a plain kernel bridge between the same two veths, measured
+#      right after in the same run;
 #   2. the takeover gap by API: `ecpairctl red-state INACTIVE` on the ACTIVE
 #      then `red-state ACTIVE` on its partner, COUNT times back and forth; the
 #      gap is the time on the bus between the old ACTIVE's last process-data
@@ -39,8 +41,9 @@ wait_for() {  # socket pattern
   for _ in $(seq 300); do "$ctl" status --socket "$1" 2>/dev/null | grep -q "$2" && return 0; sleep 0.1; done
   echo "timed out waiting for '$2' on $1" >&2; return 1
 }
-capture() {  # ns interface file
-  ip netns exec "$1" tshark -q -i "$2" -f 'ether proto 0x88a4' -a "duration:$seconds" -w "$3" >/dev/null 2>&1 &
+capture() {  # ns interface file   (tshark's messages in file.log, shown if it fails)
+  ( ip netns exec "$1" tshark -q -i "$2" -f 'ether proto 0x88a4' -a "duration:$seconds" -w "$3" >"$3.log" 2>&1 ||
+    { cat "$3.log" >&2; exit 1; } ) &
 }
 
 topology_up "$prefix" pair
@@ -49,21 +52,34 @@ ip netns exec "$prefix-sim" "$bin/sim/segment/ecsim" --eni "$eni" --main-if sim-
 sim=$!
 for _ in $(seq 100); do [ -S "$work/ecsim.sock" ] && break; sleep 0.1; done
 member m1 ACTIVE; m1=$!
-member m2 INACTIVE; m2=$!
+PAIR_FORWARDING=USER member m2 INACTIVE; m2=$!
 wait_for "$work/m1.sock" "master OP"
 wait_for "$work/m2.sock" "partner seen, mirrored"
 
-echo "== store-and-forward delay of the INACTIVE (m2), ${seconds} s at 1 ms"
-capture "$prefix-m2" m2-red "$work/inactive-red.pcap"; a=$!
-capture "$prefix-m2" m2-main "$work/inactive-main.pcap"; b=$!
-wait $a $b
-echo "   slaves -> m2 RED -> m2 MAIN -> m1 RED:"
-"$analysis" delay "$work/inactive-red.pcap" "$work/inactive-main.pcap" | sed 's/^/     /'
-echo "   m1 RED -> m2 MAIN -> m2 RED -> slaves:"
-"$analysis" delay "$work/inactive-main.pcap" "$work/inactive-red.pcap" | sed 's/^/     /'
+saf_delay() {  # path
+  echo "== store-and-forward delay of the INACTIVE (m2), $1 path, ${seconds} s at 1 ms"
+  "$ctl" status --socket "$work/m2.sock" | grep -o "store-and-forward ([a-z ]*)" | sed 's/^/   /'
+  capture "$prefix-m2" m2-red "$work/inactive-red.pcap"; a=$!
+  capture "$prefix-m2" m2-main "$work/inactive-main.pcap"; b=$!
+  wait $a $b
+  echo "   slaves -> m2 RED -> m2 MAIN -> m1 RED:"
+  "$analysis" delay "$work/inactive-red.pcap" "$work/inactive-main.pcap" | sed 's/^/     /'
+  echo "   m1 RED -> m2 MAIN -> m2 RED -> slaves:"
+  "$analysis" delay "$work/inactive-main.pcap" "$work/inactive-red.pcap" | sed 's/^/     /'
+}
+saf_delay user
+kill "$m2"; wait "$m2" 2>/dev/null || true; m2=
+PAIR_FORWARDING=KERNEL member m2 INACTIVE; m2=$!
+wait_for "$work/m2.sock" "partner seen, mirrored"
+wait_for "$work/m2.sock" "store-and-forward (kernel)"
+saf_delay kernel
+echo "   load average: $(cut -d' ' -f1-3 /proc/loadavg)"
 
 echo "== the same veths joined by a kernel bridge instead of m2"
 kill "$m2"; wait "$m2" 2>/dev/null || true; m2=
+# m2's link guard took its links down as it stopped: up again for the bridge.
+ip -n "$prefix-m2" link set m2-main up
+ip -n "$prefix-m2" link set m2-red up
 ip -n "$prefix-m2" link add name br0 type bridge
 ip -n "$prefix-m2" link set m2-main master br0
 ip -n "$prefix-m2" link set m2-red master br0

@@ -9,7 +9,7 @@ packages=(
   libpcap-dev libtinyxml2-dev libspdlog-dev libfmt-dev libsystemd-dev
   catch2 libprotobuf-dev protobuf-compiler
   libbenchmark-dev
-  clang libclang-rt-dev llvm
+  libbpf-dev bpftool clang libclang-rt-dev llvm
   iproute2 tshark procps iputils-ping
 )
 

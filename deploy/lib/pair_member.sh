@@ -3,7 +3,8 @@
 # 8 bytes of master process data each way), for the demo and the benchmarks.
 # No initial role unless one is given: the members' supervisors decide
 # (listen, then take over or stand by); the link guard is on (a pair's
-# default). Source this file.
+# default). PAIR_FORWARDING=KERNEL|USER|AUTO, when set, picks the
+# INACTIVE's store-and-forward path (redundancy.forwarding). Source this file.
 
 pair_member_config() {  # name initial-state|"" eni control-dir demo-line [extra-line]
   local role=""
@@ -17,7 +18,7 @@ cable_redundancy: true
 split_lrw: true
 $5
 control { path: "$4/$1.sock" }
-redundancy { enabled: true ${role}master_pd_out_size: 8 master_pd_in_size: 8 }
+redundancy { enabled: true ${role}${PAIR_FORWARDING:+forwarding: $PAIR_FORWARDING }master_pd_out_size: 8 master_pd_in_size: 8 }
 ${6:-}
 CONF
 }

@@ -23,6 +23,7 @@
 #include "ecpair/redundancy/cmf_format.hpp"
 #include "ecpair/redundancy/cmf_inactive.hpp"
 #include "ecpair/wire/frame.hpp"
+#include "ecpair/wire/source_mac.hpp"
 #include "channel_sender.hpp"
 #include "mailbox_counter_mirror.hpp"
 #include "mirror.hpp"
@@ -53,6 +54,8 @@ std::optional<CmfHeader> find_header(const wire::ConstFrameView& frame) {
 }  // namespace
 
 std::string_view to_string(RedState state) { return state == RedState::Active ? "ACTIVE" : "INACTIVE"; }
+
+std::string_view to_string(ForwardingPath path) { return path == ForwardingPath::Kernel ? "kernel" : "user space"; }
 
 Expected<std::unique_ptr<RedundancyController>, std::string> RedundancyController::create(
     master::Master& master, const RedundancyOptions& options, master::EventQueue& events) {
@@ -125,6 +128,48 @@ void RedundancyController::set_acyclic_channel(AcyclicMasterRedChannel* channel)
     if (channel_) channel_->role_changed(state_.load() == RedState::Active);
 }
 
+void RedundancyController::set_kernel_forwarding(std::unique_ptr<KernelForwarding> kernel) {
+    kernel_ = std::move(kernel);
+    if (!kernel_) return;
+    kernel_->set_link_state(master::LinkRole::Main, forwarding_.link_state(master::LinkRole::Main));
+    kernel_->set_link_state(master::LinkRole::Red, forwarding_.link_state(master::LinkRole::Red));
+    if (state_.load() == RedState::Inactive) start_kernel_forwarding();
+}
+
+// A map write, not an attach: the cycle thread must not wait for the kernel here.
+void RedundancyController::start_kernel_forwarding() {
+    if (!kernel_) return;
+    if (!kernel_->attached()) {
+        log()->warn("the kernel store-and-forward program is not attached: user space forwards");
+        return;
+    }
+    kernel_->set_forwarding(true);
+    kernel_forwarding_.store(true, std::memory_order_release);
+    publish_kernel_answer();
+    log()->info("INACTIVE frames are forwarded by the kernel (user space mirrors them)");
+}
+
+void RedundancyController::publish_kernel_answer() {
+    if (!kernel_forwarding_.load(std::memory_order_acquire)) return;
+    std::array<std::uint8_t, CmfStandbyStatus::kSize> status{};
+    standby_status().encode(status);
+    std::lock_guard lock(pd_in_mutex_);
+    kernel_->set_answer(pd_in_to_send_, status);
+}
+
+void RedundancyController::observe_forwarded(master::LinkRole arrived_on, ConstBytes frame, SteadyTime at) {
+    const auto view = wire::ConstFrameView::parse(frame);
+    if (!view) return;
+    const auto source = wire::SourceMac::decode(view->ethernet().source);
+    if (source.forwarded_main || source.forwarded_red) return;  // not a first pass: seen already
+    const auto acknowledged = acknowledged_handoff_.load();
+    note_header(*view, at);
+    // The program answers a hand-off from the next CMF on.
+    if (acknowledged_handoff_.load() != acknowledged) publish_kernel_answer();
+    mirror_->on_first_pass(arrived_on, frame);
+    mailbox_counters_->observe(*view);
+}
+
 void RedundancyController::request(RedState state) {
     if (requested_.exchange(state) != state) log()->info("{} requested", to_string(state));
 }
@@ -132,14 +177,19 @@ void RedundancyController::request(RedState state) {
 ConstBytes RedundancyController::received_master_pd_out() const { return mirrored_->master_pd_out; }
 
 void RedundancyController::set_master_pd_in(ConstBytes data) {
-    std::lock_guard lock(pd_in_mutex_);
-    std::copy_n(data.begin(), std::min(data.size(), pd_in_to_send_.size()), pd_in_to_send_.begin());
+    {
+        std::lock_guard lock(pd_in_mutex_);
+        std::copy_n(data.begin(), std::min(data.size(), pd_in_to_send_.size()), pd_in_to_send_.begin());
+    }
+    publish_kernel_answer();
 }
 
 void RedundancyController::on_frame(master::LinkRole arrived_on, ConstBytes frame, link::Clock::time_point received_at) {
     if (state_.load(std::memory_order_acquire) == RedState::Active) {
         master_.on_frame(arrived_on, frame, received_at);
         if (channel_) channel_->returned(arrived_on, frame);
+    } else if (kernel_forwarding_.load(std::memory_order_acquire)) {
+        observe_forwarded(arrived_on, frame, received_at);
     } else {
         arrival_[index(arrived_on)] = received_at;  // for the hook, on this same thread
         forwarding_.on_frame(arrived_on, frame);
@@ -149,6 +199,7 @@ void RedundancyController::on_frame(master::LinkRole arrived_on, ConstBytes fram
 void RedundancyController::set_link_state(master::LinkRole role, bool up) {
     master_.set_link_state(role, up);
     forwarding_.set_link_state(role, up);
+    if (kernel_) kernel_->set_link_state(role, up);
 }
 
 void RedundancyController::raise(master::EventKind kind, std::uint32_t a, std::uint32_t b) {
@@ -248,6 +299,7 @@ void RedundancyController::change_role(RedState to, master::ProcessImage& image)
                               : own       ? left_bus_->master_state
                                           : eni::SlaveState::Init;
         left_bus_.reset();
+        if (kernel_forwarding_.exchange(false)) kernel_->set_forwarding(false);  // before the first frame goes out
         // Hot: keep the slaves where the partner had them and send the mirrored
         // outputs in this very cycle. Cold: start over from INIT.
         master_.request_state(change.master_state);
@@ -273,7 +325,9 @@ void RedundancyController::change_role(RedState to, master::ProcessImage& image)
         followed_cycle_ = 0;
         announced_handoff_.reset();
         state_.store(RedState::Inactive, std::memory_order_release);
-        log()->warn("now INACTIVE: sending stops, store-and-forward and mirror from the partner");
+        start_kernel_forwarding();
+        log()->warn("now INACTIVE: sending stops, store-and-forward ({}) and mirror from the partner",
+                    to_string(kernel_forwarding_.load() ? ForwardingPath::Kernel : ForwardingPath::User));
         raise(master::EventKind::RedStateChanged, as_number(from), as_number(to));
     }
     if (channel_) channel_->role_changed(to == RedState::Active);
@@ -342,6 +396,7 @@ void RedundancyController::begin_cycle(master::ProcessImage& image, std::uint64_
     } else if (const RedState requested = requested_.load(); requested != state_.load()) {
         change_role(requested, image);
     }
+    publish_kernel_answer();  // this cycle's standby status
     publish_status();
 }
 
@@ -450,6 +505,16 @@ RedundancySnapshot RedundancyController::snapshot() const {
     }
     s.partner_mismatch = mirror_->mismatch();
     s.forwarding = forwarding_.counters();
+    if (kernel_) {
+        const auto k = kernel_->counters();
+        s.forwarding.forwarded_main_to_red += k.forwarded_main_to_red;
+        s.forwarding.forwarded_red_to_main += k.forwarded_red_to_main;
+        s.forwarding.bounced += k.bounced;
+        s.forwarding.dropped_circulating += k.dropped_circulating;
+        s.forwarding.dropped_non_ethercat += k.dropped_non_ethercat;
+        s.forwarding.dropped_damaged += k.dropped_damaged;
+    }
+    s.forwarding_path = kernel_forwarding_.load() ? ForwardingPath::Kernel : ForwardingPath::User;
     return s;
 }
 

@@ -28,8 +28,9 @@ void redundancy_table(std::ostream& out, const control::StatusReply& s) {
     if (!r.partner_mismatch().empty()) fmt::print(out, "  partner differs (cold standby): {}\n", r.partner_mismatch());
     fmt::print(out, "  master PD out {} in {}\n", hex(r.master_pd_out()), hex(r.master_pd_in()));
     if (r.red_state() == "INACTIVE") {
-        fmt::print(out, "  store-and-forward: {} to MAIN, {} to RED, {} bounced, dropped: {} circulating, {} non-EtherCAT, {} damaged\n",
-                   r.forwarded_main(), r.forwarded_red(), r.bounced(), r.dropped_circulating(), r.dropped_non_ethercat(),
+        fmt::print(out, "  store-and-forward ({}): {} to MAIN, {} to RED, {} bounced, dropped: {} circulating, {} non-EtherCAT, {} damaged\n",
+                   r.forwarding_path(), r.forwarded_main(), r.forwarded_red(), r.bounced(), r.dropped_circulating(),
+                   r.dropped_non_ethercat(),
                    r.dropped_damaged());
     }
 }
@@ -49,6 +50,7 @@ void redundancy_json(JsonWriter& json, const control::StatusReply& s) {
         json.key("forwarded_main").value(r.forwarded_main()).key("forwarded_red").value(r.forwarded_red());
         json.key("bounced").value(r.bounced()).key("dropped_circulating").value(r.dropped_circulating());
         json.key("dropped_non_ethercat").value(r.dropped_non_ethercat()).key("dropped_damaged").value(r.dropped_damaged());
+        json.key("forwarding_path").value(r.forwarding_path());
     }
     json.end_object();
 }

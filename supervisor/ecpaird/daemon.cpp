@@ -10,6 +10,7 @@
 
 #include "ecpair/common/log.hpp"
 #include "ecpair/eni/loader.hpp"
+#include "forwarding_path.hpp"
 
 namespace ecpair::daemon {
 namespace {
@@ -243,6 +244,12 @@ int Daemon::open_redundancy() {
         tap_bridge_ = std::move(*bridge);
         redundancy_->set_acyclic_channel(&tap_bridge_->channel());
     }
+    auto forwarding = open_forwarding_path(settings_);
+    if (!forwarding) {
+        log()->error("{}", forwarding.error());
+        return kLinkFailure;
+    }
+    redundancy_->set_kernel_forwarding(std::move(*forwarding));
     return kOk;
 }
 

@@ -97,6 +97,7 @@ control::StatusReply OperatorService::status(const control::StatusRequest& reque
         out->set_dropped_circulating(r.forwarding.dropped_circulating);
         out->set_dropped_non_ethercat(r.forwarding.dropped_non_ethercat);
         out->set_dropped_damaged(r.forwarding.dropped_damaged);
+        out->set_forwarding_path(std::string(redundancy::to_string(r.forwarding_path)));
         if (supervisor_) add_supervisor_status(r, *reply.mutable_supervisor());
     }
     if (tap_bridge_) fill_tap_bridge_status(*tap_bridge_, *reply.mutable_tap_bridge());

@@ -218,3 +218,23 @@ TEST_CASE("hot-connect settings: defaults, values, and their errors", "[config][
     CHECK(error_of("interfaces { main: \"a\" }\neni_path: \"x\"\nhot_connect { mode: SOMETIMES }\n").rfind(
               "test.textproto:3:", 0) == 0);
 }
+
+TEST_CASE("redundancy.forwarding: AUTO by default, KERNEL and USER as written, KERNEL refused with a tap block",
+          "[config][kbpf]") {
+    const std::string pair = "interfaces { main: \"m1-main\" red: \"m1-red\" }\neni_path: \"x.xml\"\n";
+    auto defaults = parse_daemon_settings(pair + "redundancy { enabled: true }\n");
+    REQUIRE(defaults);
+    CHECK(defaults->redundancy.forwarding == ecpair::config::ForwardingMode::Auto);
+    auto kernel = parse_daemon_settings(pair + "redundancy { enabled: true forwarding: KERNEL }\n");
+    REQUIRE(kernel);
+    CHECK(kernel->redundancy.forwarding == ecpair::config::ForwardingMode::Kernel);
+    auto user = parse_daemon_settings(pair + "redundancy { enabled: true forwarding: USER }\n");
+    REQUIRE(user);
+    CHECK(user->redundancy.forwarding == ecpair::config::ForwardingMode::User);
+    auto auto_with_tap = parse_daemon_settings(pair + "redundancy { enabled: true forwarding: AUTO }\ntap {}\n");
+    REQUIRE(auto_with_tap);
+
+    const auto refused = error_of(pair + "redundancy { enabled: true\n  forwarding: KERNEL }\ntap {}\n");
+    CHECK(refused.find("redundancy.forwarding: KERNEL does not answer the TAP bridge's polls") != std::string::npos);
+    CHECK(error_of(pair + "redundancy { forwarding: FAST }\n").find("FAST") != std::string::npos);
+}

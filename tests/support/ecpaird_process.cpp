@@ -3,8 +3,11 @@
 #include <signal.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <fstream>
+#include <sstream>
 #include <stdexcept>
+#include <fmt/format.h>
 
 #include "ecpair/control/control_client.hpp"
 #include "ecsim_process.hpp"
@@ -14,11 +17,23 @@ namespace {
 
 constexpr std::chrono::seconds kStartGuard{10};
 
+// ECPAIR_TEST_FORWARDING=KERNEL|USER|AUTO runs a pair's members on that
+// store-and-forward path (redundancy.forwarding): the second ctest
+// registration of the pair and failover suites sets it (tests/netns/CMakeLists.txt).
+std::string with_forwarding_from_environment(std::string config) {
+    const char* path = std::getenv("ECPAIR_TEST_FORWARDING");
+    if (path == nullptr || *path == '\0') return config;
+    const std::string block = "redundancy {";
+    const auto at = config.find(block);
+    if (at != std::string::npos) config.insert(at + block.size(), fmt::format(" forwarding: {} ", path));
+    return config;
+}
+
 }  // namespace
 
 EcpairdProcess::EcpairdProcess(const TestNamespace& ns, EcpairdSettings settings) : settings_(std::move(settings)) {
     {
-        std::ofstream out(config());
+        std::ostringstream out;
         out << "name: \"" << settings_.name << "\"\n"
             << "interfaces { main: \"" << settings_.main_if << "\"";
         if (!settings_.red_if.empty()) out << " red: \"" << settings_.red_if << "\"";
@@ -30,6 +45,7 @@ EcpairdProcess::EcpairdProcess(const TestNamespace& ns, EcpairdSettings settings
             << "control { path: \"" << socket().string() << "\" " << settings_.control_extra << " }\n"
             << "log_level: \"debug\"\n"
             << settings_.extra_config << "\n";
+        std::ofstream(config()) << with_forwarding_from_environment(out.str());
     }
     std::filesystem::remove(socket());
     process_.emplace(std::vector<std::string>{ecpaird_binary(), "--config", config().string()},

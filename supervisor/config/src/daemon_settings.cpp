@@ -237,6 +237,11 @@ Expected<DaemonSettings, ConfigError> parse_daemon_settings(const std::string& t
         }
         out.master_pd_out_size = r.master_pd_out_size();
         out.master_pd_in_size = r.master_pd_in_size();
+        switch (r.forwarding()) {
+            case config::Redundancy::KERNEL: out.forwarding = ForwardingMode::Kernel; break;
+            case config::Redundancy::USER: out.forwarding = ForwardingMode::User; break;
+            default: out.forwarding = ForwardingMode::Auto; break;
+        }
         if (r.has_update_slave_pd_in()) out.update_slave_pd_in = r.update_slave_pd_in();
         if (r.has_update_slave_pd_out()) out.update_slave_pd_out = r.update_slave_pd_out();
         // Times in ms, each within what makes sense for a pair of masters.
@@ -290,6 +295,10 @@ Expected<DaemonSettings, ConfigError> parse_daemon_settings(const std::string& t
         if (!tap) return fail(tap.error().first, tap.error().second);
         if (!tap->mac) tap->mac = tap_bridge::default_mac(s.name, tap->name);
         s.tap = std::move(*tap);
+        if (s.redundancy.forwarding == ForwardingMode::Kernel) {
+            return fail("redundancy.forwarding", "KERNEL does not answer the TAP bridge's polls yet: use AUTO or USER "
+                                                 "with a tap block");
+        }
     }
     if (proto.has_hot_connect()) {
         const auto& h = proto.hot_connect();

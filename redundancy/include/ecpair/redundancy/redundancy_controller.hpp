@@ -47,6 +47,7 @@
 #include "ecpair/redundancy/acyclic_master_red_channel.hpp"
 #include "ecpair/redundancy/cmf_writer.hpp"
 #include "ecpair/redundancy/image_history.hpp"
+#include "ecpair/redundancy/kernel_forwarding.hpp"
 #include "ecpair/redundancy/pair_parameters.hpp"
 #include "ecpair/redundancy/role_decider.hpp"
 #include "ecpair/redundancy/store_and_forward.hpp"
@@ -74,6 +75,11 @@ struct RedundancyOptions {
 // standby's boundary comes just after the partner's.
 inline constexpr std::int64_t kPhaseLagDivisor = 16;  // lag = cycle time / 16
 
+// Who forwards the INACTIVE's frames: StoreAndForward in user space, or
+// KernelForwarding's program (user space then only mirrors).
+enum class ForwardingPath : std::uint8_t { User, Kernel };
+std::string_view to_string(ForwardingPath path);
+
 struct RoleChange {
     RedState from;
     RedState to;
@@ -94,7 +100,8 @@ struct RedundancySnapshot {
     std::optional<std::uint64_t> handoff_cycle;      // ACTIVE: announced; INACTIVE: acknowledged
     std::vector<std::uint8_t> master_pd_out;  // ACTIVE: sent; INACTIVE: received
     std::vector<std::uint8_t> master_pd_in;   // ACTIVE: received; INACTIVE: sent
-    StoreAndForwardCounters forwarding;
+    StoreAndForwardCounters forwarding;  // both paths' counts added up
+    ForwardingPath forwarding_path = ForwardingPath::User;  // INACTIVE: the path forwarding now
 };
 
 class RedundancyController final : public master::CycleExtension {
@@ -121,6 +128,11 @@ public:
     void set_on_role_change(std::function<void(const RoleChange&)> callback) { on_role_change_ = std::move(callback); }
     // Master-to-master traffic after the CMF (the TAP bridge); set before frames flow, outlives the controller.
     void set_acyclic_channel(AcyclicMasterRedChannel* channel);
+    // The kernel path for the INACTIVE's frames, attached already: it forwards
+    // whenever this master is INACTIVE (now, if it is) and is switched off
+    // before the master sends as ACTIVE. Not attached: StoreAndForward
+    // forwards. Set before frames flow.
+    void set_kernel_forwarding(std::unique_ptr<KernelForwarding> kernel);
 
     // ---- receive threads: every frame of a link goes through here
     void on_frame(master::LinkRole arrived_on, ConstBytes frame, link::Clock::time_point received_at);
@@ -157,6 +169,10 @@ private:
     // remembers a CMF header of another master; returns it.
     std::optional<CmfHeader> note_header(const wire::ConstFrameView& frame, SteadyTime at);
     CmfStandbyStatus standby_status() const;
+    // INACTIVE with the kernel path: what user space still does with a frame the kernel forwards.
+    void observe_forwarded(master::LinkRole arrived_on, ConstBytes frame, SteadyTime at);
+    void start_kernel_forwarding();
+    void publish_kernel_answer();  // any thread
 
     master::Master& master_;
     RedundancyOptions options_;
@@ -168,6 +184,8 @@ private:
     std::unique_ptr<Mirror> mirror_;
     std::unique_ptr<MailboxCounterMirror> mailbox_counters_;
     StoreAndForward forwarding_;
+    std::unique_ptr<KernelForwarding> kernel_;
+    std::atomic<bool> kernel_forwarding_{false};  // the kernel forwards now (user space does not)
 
     std::atomic<RedState> state_{RedState::Inactive};
     std::atomic<RedState> requested_{RedState::Inactive};

@@ -16,6 +16,9 @@ namespace ecpair::config {
 
 enum class DemoKind : std::uint8_t { None, WalkingBit, LoopbackCheck };
 
+// Who forwards the INACTIVE's frames (redundancy.forwarding).
+enum class ForwardingMode : std::uint8_t { Auto, Kernel, User };
+
 struct RedundancySettings {
     bool enabled = false;
     bool start_active = false;
@@ -30,6 +33,7 @@ struct RedundancySettings {
     std::chrono::milliseconds partner_silence{100};
     bool start_in_forced_standby = false;
     bool takeover_from_differing_partner = false;
+    ForwardingMode forwarding = ForwardingMode::Auto;
 };
 
 struct LinkGuardSettings {
