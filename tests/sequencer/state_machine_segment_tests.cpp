@@ -10,6 +10,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <atomic>
 
 #include "ecpair/common/bytes.hpp"
 #include "ecpair/wire/esc_registers.hpp"
@@ -296,6 +297,44 @@ TEST_CASE("A master that becomes INACTIVE mid-way stops quietly", "[sequencer][s
     const auto seen = events.pop_all(std::chrono::milliseconds(0));
     CHECK(std::none_of(seen.begin(), seen.end(),
                        [](const master::Event& e) { return e.kind == master::EventKind::TransitionFailed; }));
+}
+
+// A PS that failed at its second slave leaves the first in SAFEOP, where its
+// PS CoE InitCmds (the PDO assignment) are refused. Run again as it was, the
+// transition would fail at that first slave every time; it takes the slave
+// back to PREOP first.
+TEST_CASE("A PREOP -> SAFEOP that stopped halfway runs again from PREOP: slaves already in SAFEOP go back first",
+          "[sequencer][sm][segment][coe-server]") {
+    const std::shared_ptr<const eni::EniConfig> eni = load_eni_copy("ecengineer_rocos_elmo_3slaves_bcr.xml");
+    REQUIRE(eni->slaves.size() == 3);
+    SimulatedBus sim(*eni);
+    const std::uint16_t second = eni->slaves[1].info.phys_addr;
+    std::atomic<bool> lose_safeop_request{true};
+    ScriptedBus bus([&](const bus::DatagramRequest& r) {
+        const bool safeop_request = r.command == wire::Command::Fpwr && adp_of(r) == second &&
+                                    ado_of(r) == wire::reg::kAlControl && !r.data.empty() && (r.data[0] & 0x0F) == 0x04;
+        if (lose_safeop_request && safeop_request) return bus_error(bus::BusErrc::Timeout);
+        return sim.bus.exchange(r);
+    });
+    VirtualClock clock;
+    FakeCyclicMaster cyclic;
+    master::EventQueue events;
+    MasterStateMachine machine(eni, bus, cyclic.hooks(), &events, clock);
+
+    const auto first = run_to(machine, MasterState::Op);
+    REQUIRE(first);
+    INFO(first->message);
+    REQUIRE(first->from == MasterState::Preop);
+    REQUIRE(first->slave_index == std::size_t{1});
+    REQUIRE(machine.current() == MasterState::Preop);
+    REQUIRE(al_state(sim, 1) == 4);  // the first slave made it to SAFEOP
+
+    lose_safeop_request = false;
+    const auto again = run_to(machine, MasterState::Op);
+    INFO((again ? again->message : std::string("reached OP")));
+    CHECK_FALSE(again);
+    CHECK(machine.current() == MasterState::Op);
+    CHECK(all_in(sim, eni::SlaveState::Op));
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include "ecpair/common/log.hpp"
 #include "ecpair/sequencer/dc_start_time.hpp"
 #include "ecpair/sequencer/identification_update.hpp"
+#include "ecpair/sequencer/state_rollback.hpp"
 #include "ecpair/wire/al_status.hpp"
 #include "ecpair/wire/datagram.hpp"
 #include "ecpair/wire/esc_registers.hpp"
@@ -202,6 +203,9 @@ std::optional<SequenceError> MasterStateMachine::run_transition(eni::Transition 
             if (auto e = apply_cyclic_state(to, t, stop)) return e;
         }
         const auto plan = plan_transition(*eni_, t, presence());
+        if (!going_down && t != eni::Transition::IP) {
+            if (auto e = take_back_slaves_ahead_of(from, plan, t, stop)) return e;
+        }
         CommandContext master_context;
         for (const auto& cmd : plan.master_before) {
             if (auto r = init_cmds_.run(cmd, master_context, stop); !r) return from_init_cmd(r.error(), t);
@@ -232,6 +236,27 @@ std::optional<SequenceError> MasterStateMachine::run_transition(eni::Transition 
               error->slave_index ? static_cast<std::uint32_t>(*error->slave_index) : kMasterIndex);
     }
     return error;
+}
+
+std::optional<SequenceError> MasterStateMachine::take_back_slaves_ahead_of(MasterState state, const TransitionPlan& plan,
+                                                                          eni::Transition t, std::stop_token stop) {
+    std::vector<std::pair<std::size_t, std::uint16_t>> stations;
+    for (const auto& slave : plan.slaves) stations.emplace_back(slave.slave_index, eni_->slaves[slave.slave_index].info.phys_addr);
+    const auto wanted = static_cast<std::uint8_t>(to_slave_state(state));
+    auto taken = take_back_slaves_ahead(bus_, clock_, stations, wanted, options_.cyclic_state_timeout, stop);
+    if (!taken) {
+        return SequenceError{SequenceFailure::InitCmd, *transition_source(t), *transition_target(t), std::nullopt,
+                             fmt::format("transition {}: taking slaves back to {} first: {}", eni::to_string(t),
+                                         to_string(state), taken.error())};
+    }
+    for (const auto& slave : *taken) {
+        logger("sequencer")->warn("slave '{}' (station {}) was in {}, ahead of the master's {} (an earlier {} stopped "
+                                  "halfway): back to {} before {} runs again",
+                                  eni_->slaves[slave.slave_index].info.name, slave.station,
+                                  wire::al_state_name(slave.state), to_string(state), eni::to_string(t),
+                                  to_string(state), eni::to_string(t));
+    }
+    return std::nullopt;
 }
 
 std::optional<SequenceError> MasterStateMachine::startup_scan(std::stop_token stop) {

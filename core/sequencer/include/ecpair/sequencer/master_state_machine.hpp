@@ -129,6 +129,9 @@ private:
     void worker(std::stop_token stop);
     std::optional<SequenceError> run_transition(eni::Transition t, std::stop_token stop);
     std::optional<SequenceError> startup_scan(std::stop_token stop);
+    // An upward transition starts with every slave at its source state (state_rollback.hpp).
+    std::optional<SequenceError> take_back_slaves_ahead_of(MasterState state, const TransitionPlan& plan,
+                                                           eni::Transition t, std::stop_token stop);
     std::optional<SequenceError> run_slave(const SlavePlan& plan, eni::Transition t, std::stop_token stop,
                                            bool may_recover = true);
     std::optional<SequenceError> recover_identification_update(const SlavePlan& plan, eni::Transition t,
