@@ -65,6 +65,7 @@ bool cmf_datagram(wire::Command command, std::uint32_t address, ConstBytes data)
 
 constexpr std::uint16_t kRingBrokenBit = 0x0001;
 constexpr std::uint16_t kHandoffRequestBit = 0x0002;
+constexpr std::uint16_t kHandoffCommittedBit = 0x0004;
 constexpr std::uint8_t kSlavePresentBit = 0x01;
 
 }  // namespace
@@ -218,7 +219,8 @@ void CmfHeader::encode(Bytes out) const {
     out[1] = static_cast<std::uint8_t>(master_state);
     store_le<std::uint16_t>(out, 2,
                             static_cast<std::uint16_t>((flags.ring_broken ? kRingBrokenBit : 0) |
-                                                       (flags.handoff_request ? kHandoffRequestBit : 0)));
+                                                       (flags.handoff_request ? kHandoffRequestBit : 0) |
+                                                       (flags.handoff_committed ? kHandoffCommittedBit : 0)));
     store_le<std::uint64_t>(out, 4, cycle);
     store_le<std::uint16_t>(out, 12, slave_count);
     store_le<std::uint16_t>(out, 14, part_count);
@@ -247,6 +249,7 @@ Expected<CmfHeader, CmfError> CmfHeader::decode(ConstBytes in, std::size_t offse
     const auto flags = load_le<std::uint16_t>(in, 2);
     h.flags.ring_broken = (flags & kRingBrokenBit) != 0;
     h.flags.handoff_request = (flags & kHandoffRequestBit) != 0;
+    h.flags.handoff_committed = (flags & kHandoffCommittedBit) != 0;
     h.cycle = load_le<std::uint64_t>(in, 4);
     h.slave_count = load_le<std::uint16_t>(in, 12);
     h.part_count = load_le<std::uint16_t>(in, 14);

@@ -324,6 +324,7 @@ void RedundancyController::change_role(RedState to, master::ProcessImage& image)
         mirrored_->cycle = 0;
         followed_cycle_ = 0;
         announced_handoff_.reset();
+        announced_committed_ = false;
         state_.store(RedState::Inactive, std::memory_order_release);
         start_kernel_forwarding();
         log()->warn("now INACTIVE: sending stops, store-and-forward ({}) and mirror from the partner",
@@ -373,6 +374,7 @@ void RedundancyController::apply(const RoleDecision& decision, master::ProcessIm
     switchover_requested_.store(decision.switchover_requested);
     if (decision.role && *decision.role != state_.load()) change_role(*decision.role, image);
     announced_handoff_ = state_.load() == RedState::Active ? decision.handoff_cycle : std::nullopt;
+    announced_committed_ = announced_handoff_ && decision.handoff_committed;
 }
 
 void RedundancyController::begin_cycle(master::ProcessImage& image, std::uint64_t cycle,
@@ -433,6 +435,7 @@ void RedundancyController::send_frames(master::FrameSender& sender, std::uint64_
     content.master_state = master_.state();
     content.flags.ring_broken = master_.ring_state() == master::RingState::Broken;
     content.flags.handoff_request = announced_handoff_.has_value();
+    content.flags.handoff_committed = announced_committed_;
     content.sender.epoch = epoch_;
     content.sender.handoff_cycle = announced_handoff_.value_or(0);
     content.sender.slaves_reached = master_.slaves_reached().value_or(0);

@@ -91,6 +91,23 @@ TEST_CASE("the HEADER datagram is laid out byte by byte as WIRE_FORMAT.md says",
     CHECK(to_hex(second.data().subspan(16)) == "0108e9030000" "0114ea031d00");
 }
 
+TEST_CASE("flag bit 2 of the HEADER says the hand-off is committed, and decodes back", "[redundancy][cmf]") {
+    const CmfLayout layout = test::small_layout();
+    TestContent sent(layout, 0x30);
+    sent.content.flags = CmfFlags{false, true, true};
+    const auto frames = test::write_cmf(layout, sent.content);
+    REQUIRE(frames.size() == 1);
+    auto view = wire::ConstFrameView::parse(frames[0].bytes);
+    REQUIRE(view);
+    const auto data = (*view->begin()).data();
+    CHECK(to_hex(data.subspan(CmfSegmentHeader::kSize + 2, 2)) == "0600");
+    const auto header = CmfHeader::decode(data.subspan(CmfSegmentHeader::kSize), 0);
+    REQUIRE(header);
+    CHECK(header->flags.handoff_request);
+    CHECK(header->flags.handoff_committed);
+    CHECK_FALSE(header->flags.ring_broken);
+}
+
 TEST_CASE("a large CMF spans several frames within EtherCAT's limits and round-trips", "[redundancy][cmf]") {
     const CmfLayout layout = test::large_layout();
     const auto plan = test::plan_of(layout);

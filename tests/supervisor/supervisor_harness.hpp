@@ -75,6 +75,7 @@ public:
         h.at = seen.now;
         h.flags.handoff_request = announced_handoff.has_value();
         h.sender.handoff_cycle = announced_handoff.value_or(0);
+        h.flags.handoff_committed = announced_handoff.has_value() && announced_committed;
         seen.heard = h;
         if (same_fingerprint) {
             ++seen.cmfs_completed;
@@ -120,6 +121,7 @@ public:
     redundancy::RoleDecision last;
     std::vector<master::Event> got;
     std::optional<std::uint64_t> announced_handoff;  // what the partner's CMF header announces
+    bool announced_committed = false;                // ... and whether it says it committed to it
     std::uint16_t partner_reach = 5;
 };
 

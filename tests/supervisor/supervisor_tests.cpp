@@ -413,6 +413,31 @@ TEST_CASE("a switchover the partner does not acknowledge is withdrawn in the las
     CHECK(h.active());
 }
 
+TEST_CASE("the CMF says a switchover is committed from the acknowledgement on, and a committed one is never "
+          "withdrawn: a stall of ours past the partner silence still ends in the step-down at H",
+          "[supervisor]") {
+    auto owner = active_with_partner();
+    auto& h = *owner;
+    REQUIRE(h.supervisor.switchover());
+    h.partner_answer();
+    h.cycle();
+    const auto at = *h.last.handoff_cycle;
+    CHECK_FALSE(h.last.handoff_committed);  // announced, not yet acknowledged
+    h.partner_answer(true, false, true);
+    h.cycle();
+    CHECK(h.last.handoff_committed);
+    // This machine stalls 150 ms (more than partner_silence) before H: without
+    // the commitment this would cancel with "partner lost" and keep the bus,
+    // while the partner, which read "committed", takes it at H.
+    h.cycle(150ms);
+    while (h.seen.cycle < at) h.cycle();
+    CHECK(h.seen.cycle == at);
+    CHECK_FALSE(h.active());
+    CHECK(h.state() == SupervisorState::Standby);
+    CHECK(h.supervisor.status().counters.handoffs == 1);
+    CHECK(h.supervisor.status().counters.handoffs_cancelled == 0);
+}
+
 TEST_CASE("a switchover onto a partner that is no hot standby is refused with the reason", "[supervisor]") {
     auto owner = active_with_partner();
     auto& h = *owner;
@@ -492,6 +517,7 @@ TEST_CASE("a standby acknowledges an announced hand-off and takes over at its cy
     h.partner_cmf();  // announces; the controller acknowledges
     h.cycle();
     CHECK(h.state() == SupervisorState::HandOffPending);
+    h.announced_committed = true;  // the ACTIVE read the acknowledgement
     while (!h.active() && h.seen.cycle < at + 5) {
         h.partner_cmf();
         h.cycle();
@@ -521,6 +547,81 @@ TEST_CASE("a standby whose ACTIVE withdraws the hand-off stays INACTIVE", "[supe
         h.cycle();
     }
     CHECK_FALSE(h.active());
+}
+
+TEST_CASE("a standby takes over at H when the ACTIVE's last CMF (H-1) is lost, once a CMF said committed",
+          "[supervisor]") {
+    auto owner = standing_by();
+    auto& h = *owner;
+    const std::uint64_t at = h.seen.cycle + 4;
+    h.announced_handoff = at;
+    h.partner_cmf();  // cycle H-4: announced, acknowledged
+    h.cycle();
+    REQUIRE(h.state() == SupervisorState::HandOffPending);
+    h.announced_committed = true;
+    h.partner_cmf();  // H-3: committed
+    h.cycle();
+    h.partner_cmf();  // H-2
+    h.cycle();
+    CHECK(h.seen.cycle == at - 1);
+    h.cycle();  // H-1's CMF never arrives
+    CHECK(h.seen.cycle == at);
+    CHECK(h.active());  // at H itself: the slaves miss no cycle
+    const auto* taken = h.find(EventKind::HandOff);
+    REQUIRE(taken);
+    CHECK(taken->a == static_cast<std::uint32_t>(master::HandOffPhase::TakenOver));
+    CHECK(taken->b == static_cast<std::uint32_t>(at));
+}
+
+TEST_CASE("a standby that never heard the hand-off committed does not take the bus on silence at H: the ACTIVE may "
+          "have withdrawn it in the CMFs that were lost (the comm timeout decides)",
+          "[supervisor]") {
+    auto owner = standing_by();
+    auto& h = *owner;
+    const std::uint64_t at = h.seen.cycle + 4;
+    h.announced_handoff = at;
+    for (int i = 0; i < 3; ++i) {  // H-4 .. H-2: announced, never committed
+        h.partner_cmf();
+        h.cycle();
+    }
+    REQUIRE(h.state() == SupervisorState::HandOffPending);
+    // H-1 (which withdrew it) and everything after is lost: the ACTIVE may
+    // still hold the bus. Two masters would number the same cycles.
+    for (int i = 0; i < 40; ++i) {
+        h.cycle();
+        CHECK_FALSE(h.active());
+    }
+    const int took = h.until([&] { return h.active(); });
+    CHECK(took > 0);
+    CHECK(took <= 12);  // the comm timeout (50 ms) from the last CMF at H-2
+    const auto* timeout = h.find(EventKind::CommTimeout);
+    REQUIRE(timeout);
+    CHECK(timeout->c == static_cast<std::uint32_t>(master::SilenceAction::TakingOverHot));
+    CHECK(h.supervisor.status().counters.handoffs == 0);
+}
+
+TEST_CASE("an older CMF without the announcement that arrives late does not cancel a committed hand-off",
+          "[supervisor]") {
+    auto owner = standing_by();
+    auto& h = *owner;
+    const std::uint64_t at = h.seen.cycle + 4;
+    h.announced_handoff = at;
+    h.announced_committed = true;
+    h.partner_cmf();
+    h.cycle();
+    REQUIRE(h.state() == SupervisorState::HandOffPending);
+    h.announced_handoff.reset();  // a CMF from before the announcement, arriving last
+    h.partner_cmf();
+    h.seen.heard->cycle = at - 6;
+    h.cycle();
+    CHECK(h.state() == SupervisorState::HandOffPending);
+    h.announced_handoff = at;
+    while (h.seen.cycle < at) {
+        h.partner_cmf();
+        h.cycle();
+    }
+    CHECK(h.active());
+    CHECK(h.supervisor.status().counters.handoffs_cancelled == 0);
 }
 
 TEST_CASE("a forced standby does not acknowledge a hand-off", "[supervisor]") {

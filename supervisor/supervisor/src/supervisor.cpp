@@ -269,7 +269,10 @@ redundancy::RoleDecision Supervisor::decide(const Observation& seen) {
     redundancy::RoleDecision decision;
     decision.role = role_;
     decision.epoch = epoch_;
-    if (announcement_) decision.handoff_cycle = announcement_->cycle();
+    if (announcement_) {
+        decision.handoff_cycle = announcement_->cycle();
+        decision.handoff_committed = announcement_->committed();
+    }
     const bool standby = state_ == SupervisorState::Standby || state_ == SupervisorState::HandOffPending;
     decision.ready_for_handoff =
         standby && !forced_ && seen.mirror_fresh && seen.main_link_up && seen.red_link_up;
@@ -335,6 +338,7 @@ void Supervisor::on_standby(const Observation& seen) {
     if (!forced_ && seen.heard && seen.heard->same_fingerprint && seen.heard->flags.handoff_request &&
         seen.acknowledged_handoff == seen.heard->sender.handoff_cycle) {
         pending_handoff_ = seen.heard->sender.handoff_cycle;
+        handoff_committed_ = seen.heard->flags.handoff_committed;
         switchover_requested_ = false;
         transition(SupervisorState::HandOffPending,
                    fmt::format("the ACTIVE hands the bus over at cycle {}: acknowledged", *pending_handoff_));
@@ -391,8 +395,12 @@ void Supervisor::on_handoff_pending(const Observation& seen) {
                                h));
         return;
     }
-    if (seen.heard && seen.heard->same_fingerprint &&
-        (!seen.heard->flags.handoff_request || seen.heard->sender.handoff_cycle != h)) {
+    const bool announces_h = seen.heard && seen.heard->same_fingerprint && seen.heard->flags.handoff_request &&
+                             seen.heard->sender.handoff_cycle == h;
+    if (announces_h && seen.heard->flags.handoff_committed) handoff_committed_ = true;
+    // Only an uncommitted hand-off can be withdrawn: once committed, a header
+    // without the announcement is an older CMF that arrived late.
+    if (!handoff_committed_ && seen.heard && seen.heard->same_fingerprint && !announces_h) {
         raise(master::EventKind::HandOff, code(master::HandOffPhase::Cancelled), static_cast<std::uint32_t>(h),
               code(master::HandOffRefusal::NotAcknowledged));
         ++counters_.handoffs_cancelled;
@@ -400,14 +408,17 @@ void Supervisor::on_handoff_pending(const Observation& seen) {
         transition(SupervisorState::Standby, fmt::format("the ACTIVE withdrew the hand-off at cycle {}", h));
         return;
     }
-    // Our cycle is H once the ACTIVE's last one (H-1) is mirrored; if that
-    // CMF was lost, the silence since H-2 says the ACTIVE has stepped down.
-    const bool last_mirrored = seen.mirrored_cycle + 1 >= h;
-    const bool last_lost = seen.cycle >= h && comm_.silence() >= 2 * options_.cycle_time;
-    if (last_mirrored || last_lost) {
+    // Our cycle is H (counted with the ACTIVE's) and the ACTIVE said it
+    // committed: it sends nothing from H on, whether or not its last CMFs
+    // reach us. Not known to be committed (every CMF that said so was lost,
+    // or the ACTIVE stalled before reading the acknowledgement): it may have
+    // withdrawn the hand-off in a CMF we never got and still hold the bus, so
+    // silence alone is no reason to take it; the comm timeout decides.
+    if (seen.cycle >= h && handoff_committed_) {
         raise(master::EventKind::HandOff, code(master::HandOffPhase::TakenOver), static_cast<std::uint32_t>(h));
         ++counters_.handoffs;
-        take_bus(seen, fmt::format("switchover: taking over at cycle {} as announced", h));
+        take_bus(seen, fmt::format("switchover: taking over at cycle {} as announced{}", h,
+                                   seen.mirrored_cycle + 1 >= h ? "" : " (the ACTIVE's last CMF did not arrive)"));
         return;
     }
     if (comm_.expired()) partner_silent(seen);
@@ -520,7 +531,9 @@ void Supervisor::on_active(const Observation& seen) {
 
 void Supervisor::on_handing_over(const Observation& seen) {
     watch_partner(seen);
-    if (!partner_seen_) {
+    // Committed is irrevocable (the partner may take over at H on the strength
+    // of it): a partner lost now, or a stall of ours, still ends in the step-down.
+    if (!partner_seen_ && !announcement_->committed()) {
         raise(master::EventKind::HandOff, code(master::HandOffPhase::Cancelled),
               static_cast<std::uint32_t>(announcement_->cycle()), code(master::HandOffRefusal::PartnerLost));
         ++counters_.handoffs_cancelled;

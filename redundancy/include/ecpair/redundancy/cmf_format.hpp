@@ -152,6 +152,9 @@ private:
 struct CmfFlags {
     bool ring_broken = false;      // the ACTIVE sees a line break
     bool handoff_request = false;  // switchover: the ACTIVE hands the bus to its partner at CmfSender::handoff_cycle
+    // With handoff_request: the ACTIVE has read the partner's acknowledgement and
+    // steps down at the hand-off cycle whatever it hears from now on (irrevocable).
+    bool handoff_committed = false;
     friend bool operator==(const CmfFlags&, const CmfFlags&) = default;
 };
 

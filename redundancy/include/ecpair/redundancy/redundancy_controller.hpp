@@ -199,6 +199,7 @@ private:
     std::uint64_t followed_cycle_ = 0;  // the mirrored cycle the master's count last followed
     std::uint32_t epoch_ = 0;
     std::optional<std::uint64_t> announced_handoff_;
+    bool announced_committed_ = false;
     struct LeftBus {
         SteadyTime at;
         eni::SlaveState master_state;

@@ -63,6 +63,7 @@ struct RoleDecision {
     std::optional<RedState> role;  // change role at this boundary (a repeat of the current one does nothing)
     // ACTIVE: announce a hand-off to the partner at this cycle (flag and cycle in the CMF header).
     std::optional<std::uint64_t> handoff_cycle;
+    bool handoff_committed = false;  // with handoff_cycle: the partner acknowledged, we step down at it
     std::uint32_t epoch = 0;  // our term: in the CMF header (ACTIVE) and the standby status (INACTIVE)
     // INACTIVE: what the standby status tells the ACTIVE.
     bool ready_for_handoff = false;  // acknowledge an announced hand-off, and take over at it

@@ -5,14 +5,16 @@
 //               (H = A + lead), and keeps announcing it every cycle
 //   A+1 ...     the INACTIVE, a hot standby, acknowledges in its standby
 //               status (filled into the same CMF as it forwards it); the
-//               ACTIVE sees the acknowledgement one cycle later: committed
+//               ACTIVE sees the acknowledgement one cycle later: committed,
+//               which its CMFs say from then on, and which is irrevocable
 //   H-1         the ACTIVE's last cycle; its CMF still announces H. Not
 //               committed by now: the announcement is withdrawn in this
 //               CMF, the INACTIVE sees that and stays INACTIVE (cancelled)
 //   H           the ACTIVE sends nothing and becomes INACTIVE; the INACTIVE,
-//               which has mirrored cycle H-1 and runs phase-locked to the
-//               ACTIVE, takes over at its boundary H and sends cycle H in the
-//               slot where the old ACTIVE would have
+//               which has read "committed" and runs phase-locked to the
+//               ACTIVE, takes over at its boundary H (H-1's CMF arrived or
+//               not) and sends cycle H in the slot where the old ACTIVE would
+//               have
 //
 // Pure: the supervisor feeds it the cycle and the partner's answers.
 

@@ -191,6 +191,7 @@ private:
     std::uint64_t takeover_cycle_ = 0;  // when this master last became ACTIVE after a partner's failure
     std::optional<HandOffAnnouncement> announcement_;
     std::optional<std::uint64_t> pending_handoff_;  // INACTIVE: acknowledged hand-off cycle
+    bool handoff_committed_ = false;                // INACTIVE: a CMF said the ACTIVE committed to it
     bool switchover_requested_ = false;  // INACTIVE: asking the ACTIVE in the standby status
     std::uint64_t switchover_until_ = 0;
     bool partner_asked_ = false;  // ACTIVE: the partner's last standby status asked for a switchover
