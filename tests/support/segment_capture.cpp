@@ -149,10 +149,10 @@ std::vector<std::uint64_t> SegmentCapture::missing_cycles(std::uint64_t from_cyc
     return missing;
 }
 
-std::vector<std::uint64_t> SegmentCapture::doubled_cycles() const {
+std::vector<std::uint64_t> SegmentCapture::doubled_cycles(std::uint64_t from_cycle) const {
     std::map<std::uint64_t, int> senders;
     for (const auto& [master, cycles] : cmf_cycles) {
-        for (const auto c : cycles) ++senders[c];
+        for (auto c = cycles.lower_bound(from_cycle); c != cycles.end(); ++c) ++senders[*c];
     }
     std::vector<std::uint64_t> doubled;
     for (const auto& [cycle, n] : senders) {

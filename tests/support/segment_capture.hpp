@@ -48,7 +48,8 @@ struct SegmentCapture {
     // carried that no CMF carried (cycles without a master), and those two
     // masters both numbered (cycles with two).
     std::vector<std::uint64_t> missing_cycles(std::uint64_t from_cycle = 0) const;
-    std::vector<std::uint64_t> doubled_cycles() const;
+    // Cycles from `from_cycle` on that CMFs of two masters carry.
+    std::vector<std::uint64_t> doubled_cycles(std::uint64_t from_cycle = 0) const;
 };
 
 // Reads an ecsim capture; the error names the file.

@@ -128,7 +128,9 @@ std::vector<std::uint16_t> ether_types_on(const TestNamespace& ns, const std::st
     int fd = -1;
     {
         NamespaceScope inside(ns);
-        fd = ::socket(AF_PACKET, SOCK_RAW | SOCK_CLOEXEC, htons(ETH_P_ALL));
+        // Protocol 0 until bound: a socket opened with ETH_P_ALL receives every
+        // interface's frames (the EtherCAT links' too) until bind() narrows it.
+        fd = ::socket(AF_PACKET, SOCK_RAW | SOCK_CLOEXEC, 0);
         REQUIRE(fd >= 0);
         sockaddr_ll where{};
         where.sll_family = AF_PACKET;
