@@ -372,6 +372,10 @@ void RedundancyController::apply(const RoleDecision& decision, master::ProcessIm
     if (!decision.ready_for_handoff) acknowledged_handoff_.store(kNoHandoff);
     forced_standby_.store(decision.forced_standby);
     switchover_requested_.store(decision.switchover_requested);
+    if (decision.role == RedState::Active && state_.load() != RedState::Active && decision.first_cycle) {
+        cycle_ = *decision.first_cycle;
+        master_.follow_cycle(cycle_);  // applied before anything of this cycle is sent
+    }
     if (decision.role && *decision.role != state_.load()) change_role(*decision.role, image);
     announced_handoff_ = state_.load() == RedState::Active ? decision.handoff_cycle : std::nullopt;
     announced_committed_ = announced_handoff_ && decision.handoff_committed;

@@ -373,7 +373,7 @@ TEST_CASE("a switchover hands the bus over at the announced cycle once the partn
     h.cycle();
     REQUIRE(h.last.handoff_cycle);
     const auto at = *h.last.handoff_cycle;
-    CHECK(at == h.seen.cycle + 4);
+    CHECK(at == h.seen.cycle + 8);
     CHECK(h.state() == SupervisorState::HandingOver);
     h.partner_answer(true, false, true);  // acknowledged in the returned CMF
     h.cycle();
@@ -571,6 +571,65 @@ TEST_CASE("a standby takes over at H when the ACTIVE's last CMF (H-1) is lost, o
     REQUIRE(taken);
     CHECK(taken->a == static_cast<std::uint32_t>(master::HandOffPhase::TakenOver));
     CHECK(taken->b == static_cast<std::uint32_t>(at));
+}
+
+TEST_CASE("a standby that reads \"committed\" only after its boundary H takes over then and still sends cycle H "
+          "first: no cycle number is skipped",
+          "[supervisor]") {
+    auto owner = standing_by();
+    auto& h = *owner;
+    const std::uint64_t at = h.seen.cycle + 4;
+    h.announced_handoff = at;
+    for (int i = 0; i < 3; ++i) {  // H-4 .. H-2: announced, not yet committed
+        h.partner_cmf();
+        h.cycle();
+    }
+    h.cycle();  // H-1's CMF, the one saying committed, is late
+    CHECK(h.seen.cycle == at);
+    CHECK_FALSE(h.active());
+    h.announced_committed = true;
+    h.partner_cmf();  // it arrives within our cycle H
+    h.cycle();
+    CHECK(h.seen.cycle == at + 1);
+    CHECK(h.active());
+    REQUIRE(h.last.first_cycle);
+    CHECK(*h.last.first_cycle == at);
+    h.cycle();
+    CHECK_FALSE(h.last.first_cycle);  // only the first cycle as ACTIVE is renumbered
+}
+
+TEST_CASE("a standby does not take a committed hand-off while the ACTIVE is late (a stall): it waits for the "
+          "ACTIVE's cycles up to H-2",
+          "[supervisor]") {
+    auto owner = standing_by();
+    auto& h = *owner;
+    const std::uint64_t at = h.seen.cycle + 6;
+    h.announced_handoff = at;
+    h.announced_committed = true;
+    h.partner_cmf();  // H-6: announced, committed
+    h.cycle();
+    REQUIRE(h.state() == SupervisorState::HandOffPending);
+    const auto last_cmf = h.seen.cycle - 1;  // H-6
+    // The ACTIVE's machine stalls: nothing for 8 cycles, our count runs past H.
+    for (int i = 0; i < 8; ++i) {
+        h.cycle();
+        CHECK_FALSE(h.active());
+    }
+    CHECK(h.seen.cycle > at);
+    // It resumes and sends H-5 .. H-2 late, one per our cycle: we count with it again.
+    for (auto c = last_cmf + 1; c + 2 <= at; ++c) {
+        CHECK_FALSE(h.active());
+        h.partner_cmf();
+        h.seen.heard->cycle = c;
+        h.seen.mirrored_cycle = c;
+        h.seen.cycle = c;  // the controller's count follows the mirrored cycle
+        h.cycle();
+    }
+    CHECK(h.seen.cycle == at - 1);
+    CHECK_FALSE(h.active());
+    h.cycle();  // H: H-2 mirrored, H-1 missing
+    CHECK(h.seen.cycle == at);
+    CHECK(h.active());
 }
 
 TEST_CASE("a standby that never heard the hand-off committed does not take the bus on silence at H: the ACTIVE may "

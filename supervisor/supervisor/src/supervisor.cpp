@@ -7,6 +7,7 @@
 #include "ecpair/supervisor/supervisor.hpp"
 
 #include <algorithm>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -269,6 +270,7 @@ redundancy::RoleDecision Supervisor::decide(const Observation& seen) {
     redundancy::RoleDecision decision;
     decision.role = role_;
     decision.epoch = epoch_;
+    decision.first_cycle = std::exchange(first_cycle_, std::nullopt);
     if (announcement_) {
         decision.handoff_cycle = announcement_->cycle();
         decision.handoff_committed = announcement_->committed();
@@ -409,16 +411,21 @@ void Supervisor::on_handoff_pending(const Observation& seen) {
         return;
     }
     // Our cycle is H (counted with the ACTIVE's) and the ACTIVE said it
-    // committed: it sends nothing from H on, whether or not its last CMFs
-    // reach us. Not known to be committed (every CMF that said so was lost,
-    // or the ACTIVE stalled before reading the acknowledgement): it may have
-    // withdrawn the hand-off in a CMF we never got and still hold the bus, so
-    // silence alone is no reason to take it; the comm timeout decides.
-    if (seen.cycle >= h && handoff_committed_) {
+    // committed: it sends nothing from H on. We have its H-2 at least, so only
+    // its last CMF is missing (lost or on its way); further behind, the
+    // ACTIVE is late (a stall of its machine) and still has cycles to send:
+    // our count catches up as they arrive. Not known to be committed (every
+    // CMF that said so was lost, or the ACTIVE stalled before reading the
+    // acknowledgement): it may have withdrawn the hand-off in a CMF we never
+    // got and still hold the bus, so silence is no reason to take it; the
+    // comm timeout decides.
+    if (seen.cycle >= h && handoff_committed_ && seen.mirrored_cycle + 2 >= h) {
         raise(master::EventKind::HandOff, code(master::HandOffPhase::TakenOver), static_cast<std::uint32_t>(h));
         ++counters_.handoffs;
-        take_bus(seen, fmt::format("switchover: taking over at cycle {} as announced{}", h,
-                                   seen.mirrored_cycle + 1 >= h ? "" : " (the ACTIVE's last CMF did not arrive)"));
+        if (seen.cycle > h) first_cycle_ = h;  // read "committed" only after our boundary H
+        take_bus(seen, fmt::format("switchover: taking over at cycle {} as announced{}{}", h,
+                                   seen.mirrored_cycle + 1 >= h ? "" : " (the ACTIVE's last CMF did not arrive)",
+                                   seen.cycle > h ? fmt::format(", {} cycle(s) late", seen.cycle - h) : ""));
         return;
     }
     if (comm_.expired()) partner_silent(seen);

@@ -64,6 +64,9 @@ struct RoleDecision {
     // ACTIVE: announce a hand-off to the partner at this cycle (flag and cycle in the CMF header).
     std::optional<std::uint64_t> handoff_cycle;
     bool handoff_committed = false;  // with handoff_cycle: the partner acknowledged, we step down at it
+    // Becoming ACTIVE: the number of this cycle, when it is not our count (a
+    // hand-off taken a cycle late still sends cycle H first: no number is skipped).
+    std::optional<std::uint64_t> first_cycle;
     std::uint32_t epoch = 0;  // our term: in the CMF header (ACTIVE) and the standby status (INACTIVE)
     // INACTIVE: what the standby status tells the ACTIVE.
     bool ready_for_handoff = false;  // acknowledge an announced hand-off, and take over at it

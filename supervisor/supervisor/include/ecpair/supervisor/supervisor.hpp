@@ -65,8 +65,10 @@ struct SupervisorOptions {
     std::uint32_t no_return_cycles = 20;
     // ACTIVE: foreign frames in this many cycles running are a collision.
     std::uint32_t collision_cycles = 3;
-    // A hand-off is announced this many cycles ahead.
-    std::uint32_t handoff_lead_cycles = 4;
+    // A hand-off is announced this many cycles ahead: time for the partner's
+    // acknowledgement to come back and for several CMFs to say "committed"
+    // before H (with 4, one late return left only H-1's CMF to say it).
+    std::uint32_t handoff_lead_cycles = 8;
     bool start_in_forced_standby = false;
     // Take over from a silent partner whose ENI or pair parameters differ (it
     // would drive the bus with another configuration): off unless asked for.
@@ -192,6 +194,7 @@ private:
     std::optional<HandOffAnnouncement> announcement_;
     std::optional<std::uint64_t> pending_handoff_;  // INACTIVE: acknowledged hand-off cycle
     bool handoff_committed_ = false;                // INACTIVE: a CMF said the ACTIVE committed to it
+    std::optional<std::uint64_t> first_cycle_;      // taking a hand-off late: number this cycle H
     bool switchover_requested_ = false;  // INACTIVE: asking the ACTIVE in the standby status
     std::uint64_t switchover_until_ = 0;
     bool partner_asked_ = false;  // ACTIVE: the partner's last standby status asked for a switchover
