@@ -192,6 +192,11 @@ std::optional<Side> Segment::carry(Side entry, Bytes buffer, std::size_t& size, 
     assert(buffer.size() >= wire::kMinFrameSize && size <= buffer.size());
     size = wire::pad_to_minimum(buffer, size);
     ++counters_.sides[static_cast<std::size_t>(entry)].frames_in;
+    // A frame from a side proves that side's carrier is up. ecsim reads carrier
+    // changes between batches, so a master's first frames after a plug can
+    // come before the news; without this they went round the ring and out of a
+    // side still thought dead (lost_no_link), which a real ESC never does.
+    if (!side_link_[static_cast<std::size_t>(entry)]) set_side_link(entry, true);
 
     auto parsed = wire::FrameView::parse(buffer.first(size));
     FrameKind kind = FrameKind::EtherCat;
