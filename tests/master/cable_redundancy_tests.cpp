@@ -247,6 +247,33 @@ TEST_CASE("a line break at every position of a 5-slave ring loses no cycle and i
     CHECK(stats.wkc_errors == 0);
 }
 
+TEST_CASE("a break whose first cycles cannot place it is raised again with its place", "[master][cable_redundancy]") {
+    SteppedRing ring;
+    ring.cycles(10);
+    (void)ring.events();
+    ring.set_break(2, true);
+    // The copies that come back by MAIN (the ones that count the slaves
+    // before the break) are lost for two cycles, as when a link goes down
+    // with frames on it.
+    const auto drop_main = [](std::vector<ReturnedCopy>& copies) {
+        copies.erase(std::remove_if(copies.begin(), copies.end(),
+                                    [](const ReturnedCopy& c) { return c.arrived_on == master::LinkRole::Main; }),
+                     copies.end());
+    };
+    ring.cycles(2, drop_main);
+    ring.cycles(5);
+    CHECK(ring.master().ring_state() == master::RingState::Broken);
+    std::vector<master::Event> breaks;
+    for (const auto& e : ring.events()) {
+        if (e.kind == master::EventKind::LineBreak) breaks.push_back(e);
+    }
+    REQUIRE(!breaks.empty());
+    // The last word on the break says where it is, and it is said once.
+    CHECK(breaks.back().b == 1);
+    CHECK(breaks.back().a == 2);
+    CHECK(std::count_if(breaks.begin(), breaks.end(), [](const master::Event& e) { return e.b == 1; }) == 1);
+}
+
 TEST_CASE("copies coming back in any order give the same cycle", "[master][cable_redundancy]") {
     const bool broken = GENERATE(false, true);
     INFO((broken ? "ring broken after slave 2" : "ring closed"));

@@ -136,8 +136,10 @@ void Master::on_frame(LinkRole arrived_on, ConstBytes frame, link::Clock::time_p
     rx_rings_[static_cast<std::size_t>(arrived_on)].push(frame, received_at);
 }
 
+// Called from the cycle thread and from the daemon's link watcher: the cycle
+// number comes from the atomic counter, not from the cycle thread's own copy.
 void Master::raise(EventKind kind, std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t d) {
-    events_.push(Event{kind, cycle_, std::chrono::system_clock::now(), a, b, c, d});
+    events_.push(Event{kind, cycle_counter_.load(), std::chrono::system_clock::now(), a, b, c, d});
 }
 
 MasterStats Master::stats() const {
@@ -383,6 +385,16 @@ bool Master::is_complete(const InFlight& f, const ReturnedCopy& main_copy, const
 void Master::observe_ring(bool closed, bool broken, std::optional<std::uint16_t> reachable) {
     const RingState previous = ring_state_.load();
     const RingState now = broken ? RingState::Broken : closed ? RingState::Closed : previous;
+    if (now == RingState::Broken && previous == RingState::Broken) {
+        // The first cycle of a break may not say where it is (the copy that
+        // counts the slaves before it was lost in flight as the link went
+        // down): the break is raised again, with its place, once a cycle finds it.
+        if (reachable && reachable_from_main_.exchange(*reachable) != *reachable) {
+            logger("master")->warn("line break located after slave {}", *reachable);
+            raise(EventKind::LineBreak, *reachable, 1);
+        }
+        return;
+    }
     if (now == RingState::Broken && reachable) reachable_from_main_.store(*reachable);
     if (now == previous) return;
     ring_state_.store(now);
