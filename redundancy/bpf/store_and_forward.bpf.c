@@ -9,7 +9,8 @@
  *   leave by the other link if it is up, else back out of the arrival link
  *   the forwarding bit of the leaving link already set -> count, drop
  *   first pass (neither bit): fill MASTER_PD_IN / STANDBY_STATUS, WKC +1,
- *                             the other CMF datagrams WKC +2
+ *                             the other CMF datagrams WKC +2; a TAP bridge
+ *                             POLL gets the answer user space prepared, WKC +1
  *   set the bit, redirect to the leaving link's egress, count
  *
  * User space still sees every arriving frame (its AF_PACKET socket gets it
@@ -43,6 +44,11 @@ struct {
     __type(value, __u64);
 } counters SEC(".maps");
 
+/* The TAP bridge's prepared answers and the slot the next poll takes
+ * (store_and_forward_maps.h says how user space and the program share them). */
+struct ecpair_kfwd_bridge_answer bridge_answers[ECPAIR_KFWD_BRIDGE_SLOTS];
+__u32 bridge_next;
+
 /* Wire constants (core/wire/constants.hpp, redundancy/cmf_format.hpp). */
 #define ETHER_HEADER 14
 #define VLAN_TAG 4
@@ -69,7 +75,13 @@ struct {
 #define CMF_KIND_STANDBY_STATUS 6
 #define CMF_READ_WKC 2
 #define CMF_WRITE_WKC 1
-#define MAX_COPY_CHUNKS 24 /* 24 * 64 >= 1486 - 16, the largest payload */
+#define MAX_COPY_CHUNKS 24 /* 24 * 64 >= 1486, the largest datagram data */
+/* The TAP bridge (tap_bridge/bridge_datagram.hpp, WIRE_FORMAT.md §11). */
+#define BRIDGE_ADO 0x4254
+#define BRIDGE_HEADER_PREFIX 16 /* magic, version, kind, ..., session, sequence */
+#define BRIDGE_HEADER 24
+#define BRIDGE_VERSION 1
+#define BRIDGE_KIND_POLL 2
 
 enum link { MAIN = 0, RED = 1 };
 
@@ -98,24 +110,26 @@ static __always_inline int add_wkc(struct __sk_buff* skb, __u32 off, __u16 incre
     return bpf_skb_store_bytes(skb, off, b, 2, 0);
 }
 
-/* Copies answer bytes [from, from + n) to the frame at `to`, chunk by chunk
- * (the verifier must see a bounded size and source range for every store). */
-static __always_inline int copy_answer(struct __sk_buff* skb, __u32 to, const struct ecpair_kfwd_answer* a, __u32 from,
-                                       __u32 n) {
+/* Copies bytes[from, from + n) to the frame at `to`, chunk by chunk: the
+ * verifier must see a bounded size and source range for every store, so
+ * sources are checked against `limit` and masked with `mask` (bytes has
+ * mask + 1 + one chunk of room). Inlined: mask and limit are constants. */
+static __always_inline int copy_to_frame(struct __sk_buff* skb, __u32 to, const __u8* bytes, __u32 from, __u32 n,
+                                         __u64 limit, __u64 mask) {
     for (__u32 c = 0; c < MAX_COPY_CHUNKS; c++) {
         const __u32 done = c * ECPAIR_KFWD_COPY_CHUNK;
         if (done >= n) break;
         __u32 chunk = n - done;
         if (chunk > ECPAIR_KFWD_COPY_CHUNK) chunk = ECPAIR_KFWD_COPY_CHUNK;
         __u64 src = (__u64)from + done;
-        if (src >= ECPAIR_KFWD_STATUS_SIZE + ECPAIR_KFWD_PD_IN_MAX) return -1;
+        if (src >= limit) return -1;
         // Bounds the verifier can follow (clang may fold the comparisons above away).
         asm volatile("" : "+r"(src));
-        src &= ECPAIR_KFWD_ANSWER_BYTES - 1;
+        src &= mask;
         __u64 size = chunk;
         asm volatile("" : "+r"(size));
         if (size == 0 || size > ECPAIR_KFWD_COPY_CHUNK) return -1;
-        if (bpf_skb_store_bytes(skb, to + done, &a->bytes[src], size, 0) < 0) return -1;
+        if (bpf_skb_store_bytes(skb, to + done, &bytes[src], size, 0) < 0) return -1;
     }
     return 0;
 }
@@ -153,9 +167,53 @@ __attribute__((noinline)) int process_datagram(struct __sk_buff* skb, __u32 off,
         __u32 n = size - offset;
         const __u32 payload = len - CMF_SEGMENT_HEADER;
         if (n > payload) n = payload;
-        if (copy_answer(skb, data + CMF_SEGMENT_HEADER, a, base + offset, n) < 0) return -1;
+        if (copy_to_frame(skb, data + CMF_SEGMENT_HEADER, a->bytes, base + offset, n,
+                          ECPAIR_KFWD_STATUS_SIZE + ECPAIR_KFWD_PD_IN_MAX, ECPAIR_KFWD_ANSWER_BYTES - 1) < 0) {
+            return -1;
+        }
     }
     return add_wkc(skb, wkc_at, CMF_WRITE_WKC);
+}
+
+/* A TAP bridge POLL at `off` with `len` data bytes gets the answer user
+ * space prepared (BridgeChannel::prepare_answers): the one its other copy
+ * claimed already, else the slot bridge_next names if it is ready, of this
+ * size and not yet claimed. Without one the poll goes on unanswered (the
+ * ACTIVE counts it). Any other datagram is left alone. */
+__attribute__((noinline)) int answer_bridge_poll(struct __sk_buff* skb, __u32 off, __u32 len) {
+    __u8 h[DATAGRAM_HEADER + BRIDGE_HEADER_PREFIX];
+    if (len < BRIDGE_HEADER || len > ECPAIR_KFWD_BRIDGE_DATA_MAX) return 0;
+    if (bpf_skb_load_bytes(skb, off, h, sizeof(h)) < 0) return 0;
+    const __u16 adp = (__u16)(h[2] | (h[3] << 8));
+    const __u16 ado = (__u16)(h[4] | (h[5] << 8));
+    if (h[0] != CMD_NOP || adp != 0 || ado != BRIDGE_ADO) return 0;
+    const __u8* b = &h[DATAGRAM_HEADER];
+    if (b[0] != 'T' || b[1] != 'B' || b[2] != BRIDGE_VERSION || b[3] != BRIDGE_KIND_POLL) return 0;
+    const __u32 session = (__u32)b[8] | ((__u32)b[9] << 8) | ((__u32)b[10] << 16) | ((__u32)b[11] << 24);
+    const __u32 sequence = (__u32)b[12] | ((__u32)b[13] << 8) | ((__u32)b[14] << 16) | ((__u32)b[15] << 24);
+    const __u64 id = ((__u64)session << 32) | sequence;
+    if (id == 0) return 0;  // indistinguishable from "not claimed"
+
+    struct ecpair_kfwd_bridge_answer* chosen = 0;
+    for (__u32 i = 0; i < ECPAIR_KFWD_BRIDGE_SLOTS; i++) {
+        struct ecpair_kfwd_bridge_answer* a = &bridge_answers[i];
+        if (*(volatile __u32*)&a->ready && *(volatile __u64*)&a->claimed_by == id && a->size == len) {
+            chosen = a;  // the other copy of this poll was answered from it
+            break;
+        }
+    }
+    if (!chosen) {
+        struct ecpair_kfwd_bridge_answer* a = &bridge_answers[*(volatile __u32*)&bridge_next & (ECPAIR_KFWD_BRIDGE_SLOTS - 1)];
+        if (*(volatile __u32*)&a->ready && a->size == len && __sync_val_compare_and_swap(&a->claimed_by, 0, id) == 0) {
+            chosen = a;
+        }
+    }
+    if (!chosen) return 0;
+    const __u32 data = off + DATAGRAM_HEADER;
+    if (copy_to_frame(skb, data, chosen->data, 0, len, ECPAIR_KFWD_BRIDGE_DATA_MAX, ECPAIR_KFWD_BRIDGE_DATA_BYTES - 1) < 0) {
+        return -1;
+    }
+    return add_wkc(skb, data + len, 1);
 }
 
 SEC("tc")
@@ -228,6 +286,7 @@ int ecpair_store_and_forward(struct __sk_buff* skb) {
             if (load_u16le(skb, off + 6, &word) < 0) break;
             const __u32 len = word & LENGTH_MASK;
             process_datagram(skb, off, len, slot);
+            answer_bridge_poll(skb, off, len);
             off += DATAGRAM_OVERHEAD + len;
             if ((word & MORE_BIT) == 0) break;
         }

@@ -6,9 +6,11 @@
 
 #ifdef __cplusplus
 #include <cstdint>
+typedef std::uint64_t ecpair_u64;
 typedef std::uint32_t ecpair_u32;
 typedef std::uint8_t ecpair_u8;
 #else
+typedef __u64 ecpair_u64;
 typedef __u32 ecpair_u32;
 typedef __u8 ecpair_u8;
 #endif
@@ -39,6 +41,26 @@ struct ecpair_kfwd_answer {
     ecpair_u32 reserved;
     /* + one chunk of slack: the verifier sees every copy stay inside */
     ecpair_u8 bytes[ECPAIR_KFWD_ANSWER_BYTES + ECPAIR_KFWD_COPY_CHUNK];
+};
+
+/* The TAP bridge's answers (the global `bridge_answers`, in .bss: user space
+ * reads and writes it through the skeleton's mapping, no system call). User
+ * space prepares a sealed ANSWER in a slot ahead of the polls and points
+ * `bridge_next` at it; the first poll of exactly that size to pass claims it
+ * (claimed_by: 0 -> the poll's session << 32 | sequence, one atomic
+ * compare-and-swap), and the poll's other copy finds it by that id and gets
+ * the same bytes. User space rewrites only a slot it moved on from (ready 0
+ * while it writes); a copy torn by such a rewrite fails the datagram's CRC
+ * at the ACTIVE and is dropped there, never delivered. */
+#define ECPAIR_KFWD_BRIDGE_SLOTS 4
+#define ECPAIR_KFWD_BRIDGE_DATA_MAX 1486
+/* A power of two >= BRIDGE_DATA_MAX: the program masks copy sources with it. */
+#define ECPAIR_KFWD_BRIDGE_DATA_BYTES 2048
+struct ecpair_kfwd_bridge_answer {
+    ecpair_u64 claimed_by; /* 0: no poll took it yet */
+    ecpair_u32 ready;      /* 1: size and data are complete */
+    ecpair_u32 size;       /* data bytes: it answers a poll of exactly this size */
+    ecpair_u8 data[ECPAIR_KFWD_BRIDGE_DATA_BYTES + ECPAIR_KFWD_COPY_CHUNK];
 };
 
 /* `counters` (per-CPU array of u64), StoreAndForwardCounters' fields. */

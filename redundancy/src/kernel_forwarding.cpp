@@ -1,13 +1,17 @@
 // KernelForwarding: loads the embedded store-and-forward program (a libbpf
 // skeleton generated in the build), attaches it with tcx bpf_links, and
-// talks to it through its three maps (store_and_forward_maps.h).
+// talks to it through its three maps and its global data, the TAP bridge's
+// answers (store_and_forward_maps.h).
 
 #include "ecpair/redundancy/kernel_forwarding.hpp"
 
 #include <net/if.h>
 #include <unistd.h>
 
+#include <linux/types.h>
+
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <cstdarg>
 #include <cstdio>
@@ -18,8 +22,9 @@
 #include <fmt/format.h>
 
 #include "ecpair/common/log.hpp"
-#include "store_and_forward.skel.h"
+// The skeleton names the shared structures: they come first.
 #include "store_and_forward_maps.h"
+#include "store_and_forward.skel.h"
 
 namespace ecpair::redundancy {
 namespace {
@@ -166,6 +171,35 @@ void KernelForwarding::set_answer(ConstBytes master_pd_in, ConstBytes standby_st
     }
     set_control(ECPAIR_KFWD_ANSWER_SLOT, next);
     answer_slot_ = next;
+}
+
+std::size_t KernelForwarding::slots() const { return ECPAIR_KFWD_BRIDGE_SLOTS; }
+
+// The slots are the program's .bss, mapped into this process: plain memory
+// that the program reads as polls pass. Stores that the program must see in
+// order (the data before `ready`, `ready` before `bridge_next`) are releases.
+std::uint64_t KernelForwarding::claimed_by(std::size_t slot) const {
+    auto& answer = skeleton_->bss->bridge_answers[slot % ECPAIR_KFWD_BRIDGE_SLOTS];
+    return std::atomic_ref<ecpair_u64>(answer.claimed_by).load(std::memory_order_acquire);
+}
+
+void KernelForwarding::publish(std::size_t slot, ConstBytes data) {
+    slot %= ECPAIR_KFWD_BRIDGE_SLOTS;
+    auto& answer = skeleton_->bss->bridge_answers[slot];
+    std::atomic_ref<ecpair_u32>(answer.ready).store(0, std::memory_order_release);
+    const std::size_t size = std::min<std::size_t>(data.size(), ECPAIR_KFWD_BRIDGE_DATA_MAX);
+    std::copy_n(data.begin(), size, std::begin(answer.data));
+    answer.size = static_cast<ecpair_u32>(size);
+    std::atomic_ref<ecpair_u64>(answer.claimed_by).store(0, std::memory_order_relaxed);
+    std::atomic_ref<ecpair_u32>(answer.ready).store(1, std::memory_order_release);
+    std::atomic_ref<ecpair_u32>(skeleton_->bss->bridge_next).store(static_cast<ecpair_u32>(slot),
+                                                                    std::memory_order_release);
+}
+
+void KernelForwarding::withdraw_all() {
+    for (auto& answer : skeleton_->bss->bridge_answers) {
+        std::atomic_ref<ecpair_u32>(answer.ready).store(0, std::memory_order_release);
+    }
 }
 
 StoreAndForwardCounters KernelForwarding::counters() const {

@@ -168,6 +168,7 @@ void RedundancyController::observe_forwarded(master::LinkRole arrived_on, ConstB
     if (acknowledged_handoff_.load() != acknowledged) publish_kernel_answer();
     mirror_->on_first_pass(arrived_on, frame);
     mailbox_counters_->observe(*view);
+    if (channel_) channel_->kernel_forwarded(arrived_on, frame, *kernel_);
 }
 
 void RedundancyController::request(RedState state) {
@@ -403,6 +404,7 @@ void RedundancyController::begin_cycle(master::ProcessImage& image, std::uint64_
         change_role(requested, image);
     }
     publish_kernel_answer();  // this cycle's standby status
+    if (channel_ && kernel_forwarding_.load(std::memory_order_acquire)) channel_->prepare_answers(*kernel_);
     publish_status();
 }
 

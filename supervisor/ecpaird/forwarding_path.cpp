@@ -12,12 +12,6 @@ Expected<std::unique_ptr<redundancy::KernelForwarding>, std::string> open_forwar
         log->info("store-and-forward at the INACTIVE: user space (redundancy.forwarding: USER)");
         return std::unique_ptr<redundancy::KernelForwarding>();
     }
-    if (settings.tap) {
-        // Config validation refuses KERNEL with a tap block: only AUTO gets here.
-        log->warn("store-and-forward at the INACTIVE: user space, because the kernel path does not answer the TAP "
-                  "bridge's polls yet");
-        return std::unique_ptr<redundancy::KernelForwarding>();
-    }
     auto opened = redundancy::KernelForwarding::open(settings.main_interface, settings.red_interface,
                                                      settings.redundancy.master_pd_in_size);
     // Attached for ecpaird's life (roles switch it on and off): a NIC or kernel

@@ -12,6 +12,10 @@
 //                    from the outbound queue; WKC + 1
 //   forwarded        DATA on its first pass -> deliver (once)
 //   (INACTIVE)
+//   kernel_forwarded the frame as it arrived (the kernel forwarded it and
+//   (INACTIVE,       answered its polls): DATA -> deliver; POLL -> its size,
+//   kernel path)     then prepare_answers: settle the answers polls took
+//                    (pop their frames), publish the next one
 //   deliver          session/sequence check -> inbound queue -> on_delivery
 
 #include "ecpair/tap_bridge/bridge_channel.hpp"
@@ -65,6 +69,10 @@ std::uint16_t BridgeChannel::backlog_bytes() const {
 
 void BridgeChannel::role_changed(bool active) {
     if (active_.exchange(active) == active) return;
+    {
+        std::lock_guard lock(fill_mutex_);
+        prepared_stale_ = true;
+    }
     role_since_ns_.store(now_ns());
     last_exchange_ns_.store(0);
     partner_backlog_.store(0);
@@ -286,6 +294,99 @@ void BridgeChannel::forwarded(master::LinkRole, ConstBytes frame, bool first_pas
         }
         if (decoded->header.kind == BridgeKind::Data) deliver(*decoded);
     }
+}
+
+void BridgeChannel::kernel_forwarded(master::LinkRole arrived_on, ConstBytes frame,
+                                     redundancy::PreparedPollAnswers& answers) {
+    forwarded(arrived_on, frame, true);  // the ACTIVE's DATA; it skips the polls
+    auto view = wire::ConstFrameView::parse(frame);
+    if (!view) return;
+    bool polled = false;
+    for (const auto d : *view) {
+        if (!is_bridge_datagram(d)) continue;
+        const auto data = d.data();
+        if (data.size() <= kKindAt || data[kKindAt] != static_cast<std::uint8_t>(BridgeKind::Poll)) continue;
+        if (const auto decoded = decode_bridge_datagram(data, d.frame_offset() + wire::kDatagramHeaderSize); !decoded) {
+            count_garbled(decoded.error());
+            continue;
+        }
+        poll_size_.store(data.size(), std::memory_order_relaxed);
+        last_exchange_ns_.store(now_ns(), std::memory_order_relaxed);
+        polled = true;
+    }
+    if (polled) prepare_answers(answers);
+}
+
+void BridgeChannel::prepare_answers(redundancy::PreparedPollAnswers& answers) {
+    const std::size_t poll_size = poll_size_.load(std::memory_order_relaxed);
+    std::lock_guard lock(fill_mutex_);
+    const std::size_t slots = std::min(answers.slots(), prepared_.size());
+    if (slots == 0 || active_.load()) return;
+    if (prepared_stale_) {
+        answers.withdraw_all();
+        prepared_ = {};
+        prepared_next_ = 0;
+        prepared_stale_ = false;
+    }
+    if (poll_size == 0) return;  // no poll seen yet: the size to answer is not known
+    settle_taken(answers, slots);
+    const PreparedAnswer& waiting = prepared_[prepared_next_];
+    const bool still_right = waiting.frames > 0 ? waiting.sequence == tx_sequence_.load() + 1 : outbound_.depth() == 0;
+    if (waiting.published && !waiting.taken && waiting.size == poll_size && still_right) return;
+    publish_next(answers, slots, poll_size);
+}
+
+void BridgeChannel::settle_taken(redundancy::PreparedPollAnswers& answers, std::size_t slots) {
+    // Oldest first: the slot after the newest was published longest ago.
+    for (std::size_t k = 1; k <= slots; ++k) {
+        const std::size_t slot = (prepared_next_ + k) % slots;
+        PreparedAnswer& p = prepared_[slot];
+        if (!p.published || p.taken || answers.claimed_by(slot) == 0) continue;
+        p.taken = true;
+        counters_.answers_given.fetch_add(1, std::memory_order_relaxed);
+        // An answer prepared again (a new poll size) carries the sequence of
+        // the one before: whichever a poll took first, its frames left once.
+        if (p.frames == 0 || p.sequence != tx_sequence_.load() + 1) continue;
+        outbound_.pop_while([](ConstBytes) { return true; }, p.frames);
+        tx_sequence_.store(p.sequence);
+        counters_.tx_frames.fetch_add(p.frames, std::memory_order_relaxed);
+        counters_.tx_bytes.fetch_add(p.bytes, std::memory_order_relaxed);
+    }
+}
+
+void BridgeChannel::publish_next(redundancy::PreparedPollAnswers& answers, std::size_t slots, std::size_t poll_size) {
+    const Bytes data(prepare_scratch_.data(), poll_size);
+    BridgePayloadWriter writer(data);
+    std::size_t bytes = 0;
+    for (;;) {
+        writer = BridgePayloadWriter(data);
+        bytes = 0;
+        bool head_too_large = false;
+        outbound_.peek_while([&](ConstBytes frame) {
+            if (!writer.add(frame)) {
+                head_too_large = writer.frame_count() == 0;
+                return false;
+            }
+            bytes += frame.size();
+            return true;
+        });
+        if (!head_too_large) break;
+        // As in answer(): a head frame larger than the partner's polls would block the queue.
+        outbound_.drop_head();
+        counters_.dropped_oversized.fetch_add(1, std::memory_order_relaxed);
+    }
+    const std::size_t frames = writer.frame_count();
+    const std::uint32_t sequence = tx_sequence_.load() + (frames > 0 ? 1 : 0);
+    // The backlog after this answer: its frames are still queued.
+    const std::size_t queued = outbound_.bytes() + outbound_.depth() * kFrameLengthPrefix;
+    const std::size_t taken = bytes + frames * kFrameLengthPrefix;
+    const auto backlog = static_cast<std::uint16_t>(
+        std::min<std::size_t>(queued > taken ? queued - taken : 0, std::numeric_limits<std::uint16_t>::max()));
+    writer.seal(BridgeKind::Answer, options_.session, sequence, backlog);
+    const std::size_t slot = (prepared_next_ + 1) % slots;
+    answers.publish(slot, data);
+    prepared_[slot] = PreparedAnswer{true, false, sequence, frames, bytes, poll_size};
+    prepared_next_ = slot;
 }
 
 BridgeCounters BridgeChannel::counters() const {

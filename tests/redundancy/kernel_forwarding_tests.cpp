@@ -2,8 +2,9 @@
 // synthetic frame goes through the BPF program (BPF_PROG_TEST_RUN, nothing
 // sent) and through StoreAndForward on in-memory cables with the CMF hook
 // the controller sets, and both must agree on the outcome, the adapter it
-// leaves by and every byte. Then the loader's errors, and the program
-// attached to real veths in a namespace.
+// leaves by and every byte. The TAP bridge's polls answered from what a
+// BridgeChannel prepared. Then the loader's errors, and the program attached
+// to real veths in a namespace.
 //
 // The program tells the arrival link by interface index, so the two links
 // are veths inside a test namespace that the test thread enters.
@@ -24,6 +25,7 @@
 #include "ecpair/redundancy/cmf_inactive.hpp"
 #include "ecpair/redundancy/kernel_forwarding.hpp"
 #include "ecpair/redundancy/store_and_forward.hpp"
+#include "ecpair/tap_bridge/bridge_channel.hpp"
 #include "ecpair/wire/esc_registers.hpp"
 #include "ecpair/wire/frame.hpp"
 #include "netns.hpp"
@@ -98,6 +100,33 @@ Frame cmf_frame(std::uint8_t byte0, std::uint32_t pd_offset = 0, std::size_t pd_
     append_cmf(builder, redundancy::CmfKind::StandbyStatus, 0, redundancy::CmfStandbyStatus::kSize, 0x00FF);
     append_cmf(builder, redundancy::CmfKind::MasterPdOut, 0, 8, 0xFFFF);  // the WKC wraps as on a slave
     return finish(builder);
+}
+
+// A TAP bridge POLL of the ACTIVE (session 0xAAAA0001) with `size` data bytes.
+Frame poll_frame(std::uint32_t sequence, std::size_t size = tap_bridge::kMaxBridgeDatagramData) {
+    std::array<std::uint8_t, wire::kMaxFrameSize> buffer{};
+    wire::FrameBuilder builder(buffer, ethernet(0x08));
+    wire::DatagramHeader nop;
+    nop.command = wire::Command::Nop;
+    nop.address = wire::DatagramHeader::physical(0, tap_bridge::kBridgeAdo);
+    auto datagram = builder.append(nop, size);
+    REQUIRE(datagram);
+    tap_bridge::BridgePayloadWriter(datagram->data()).seal(tap_bridge::BridgeKind::Poll, 0xAAAA0001, sequence, 0);
+    return finish(builder);
+}
+
+// The one datagram of a bridge frame.
+wire::ConstDatagramView bridge_datagram(const Frame& frame) {
+    auto view = wire::ConstFrameView::parse(ConstBytes(frame));
+    REQUIRE(view);
+    return *view->begin();
+}
+
+Frame ip_frame(std::uint8_t n) {
+    Frame f(120, n);
+    f[12] = 0x08;
+    f[13] = 0x00;
+    return f;
 }
 
 const std::vector<std::uint8_t> kPdIn{0xA0, 0xA1, 0xA2, 0xA3, 0xA4, 0xA5, 0xA6, 0xA7, 0xA8, 0xA9};
@@ -325,6 +354,64 @@ TEST_CASE("kernel path: the INACTIVE's part of the CMF on a frame's first pass",
         const auto pd_in = datagrams[2].data().subspan(redundancy::CmfSegmentHeader::kSize);
         CHECK(std::all_of(pd_in.begin(), pd_in.end(), [](std::uint8_t b) { return b == 0x33; }));
     }
+}
+
+TEST_CASE("kernel path: the TAP bridge's polls get the answers the channel prepared, both copies the same",
+          "[kbpf][tap_bridge]") {
+    KernelPath kernel;
+    tap_bridge::BridgeChannelOptions options;
+    options.session = 0xBBBB0002;
+    tap_bridge::BridgeChannel inactive(options);
+    inactive.role_changed(false);
+    inactive.offer(ip_frame(1));
+    inactive.offer(ip_frame(2));
+
+    // The first poll: nothing prepared yet (its size was not known).
+    const Frame first = poll_frame(1);
+    auto k = kernel.run(LinkRole::Main, first);
+    REQUIRE(k.action == Action::Redirected);
+    CHECK(bridge_datagram(k.frame).wkc() == 0);
+    CHECK(std::equal(k.frame.begin() + 7, k.frame.end(), first.begin() + 7));  // as sent but the forwarding bit
+    inactive.kernel_forwarded(LinkRole::Main, first, *kernel.kernel);  // as user space sees it: it prepares
+    CHECK(inactive.outbound_depth() == 2);                             // still queued
+
+    // The next poll takes the answer; its other copy gets the same bytes.
+    const Frame second = poll_frame(2);
+    k = kernel.run(LinkRole::Main, second);
+    REQUIRE(k.action == Action::Redirected);
+    const auto answer = bridge_datagram(k.frame);
+    CHECK(answer.wkc() == 1);
+    auto decoded = tap_bridge::decode_bridge_datagram(answer.data());
+    REQUIRE(decoded);
+    CHECK(decoded->header.kind == tap_bridge::BridgeKind::Answer);
+    CHECK(decoded->header.session == 0xBBBB0002);
+    CHECK(decoded->header.sequence == 1);
+    std::vector<Frame> carried;
+    decoded->for_each_frame([&](ConstBytes f) { carried.emplace_back(f.begin(), f.end()); });
+    CHECK(carried == std::vector<Frame>{ip_frame(1), ip_frame(2)});
+    const auto other = kernel.run(LinkRole::Red, second);
+    REQUIRE(other.action == Action::Redirected);
+    const auto other_answer = bridge_datagram(other.frame);
+    CHECK(other_answer.wkc() == 1);
+    CHECK(std::equal(other_answer.data().begin(), other_answer.data().end(), answer.data().begin(),
+                     answer.data().end()));
+    inactive.kernel_forwarded(LinkRole::Main, second, *kernel.kernel);
+    CHECK(inactive.outbound_depth() == 0);  // taken: off the queue
+    CHECK(inactive.counters().answers_given == 1);
+    CHECK(inactive.counters().tx_frames == 2);
+
+    // Then an empty answer, and a poll of another size finds none.
+    k = kernel.run(LinkRole::Main, poll_frame(3));
+    decoded = tap_bridge::decode_bridge_datagram(bridge_datagram(k.frame).data());
+    REQUIRE(decoded);
+    CHECK(decoded->header.kind == tap_bridge::BridgeKind::Answer);
+    CHECK(decoded->header.frame_count == 0);
+    CHECK(bridge_datagram(k.frame).wkc() == 1);
+    const Frame smaller = poll_frame(4, 300);
+    k = kernel.run(LinkRole::Main, smaller);
+    REQUIRE(k.action == Action::Redirected);
+    CHECK(bridge_datagram(k.frame).wkc() == 0);
+    CHECK(std::equal(k.frame.begin() + 7, k.frame.end(), smaller.begin() + 7));
 }
 
 TEST_CASE("kernel path: the loader names what is wrong", "[kbpf]") {

@@ -2,7 +2,10 @@
 // ACTIVE's frames are copied as the pair's ring copies them (a MAIN and a RED
 // copy, each passing the INACTIVE once on its first pass) and returned to
 // the ACTIVE. Delivery once and in order, fill once, drops by reason, the
-// flow status in virtual time.
+// flow status in virtual time. Then the kernel path: the INACTIVE's answers
+// prepared ahead for a program that answers the polls (here a model of
+// store_and_forward.bpf.c's rules; kernel_forwarding_tests.cpp runs the
+// real program).
 
 #include <algorithm>
 #include <array>
@@ -71,6 +74,59 @@ BridgeChannelOptions options(std::uint32_t session, VirtualClock& clock, std::si
     return o;
 }
 
+// The kernel program's rules for the TAP bridge's polls, in memory: a poll
+// takes the answer its other copy took (same id and size), else the slot
+// named next if it is ready, of the poll's size and not yet claimed.
+class ProgramSlots final : public ecpair::redundancy::PreparedPollAnswers {
+public:
+    struct Slot {
+        std::uint64_t claimed_by = 0;
+        bool ready = false;
+        Frame data;
+    };
+    std::array<Slot, 4> slot{};
+    std::size_t next = 0;
+    std::size_t publications = 0;
+
+    std::size_t slots() const override { return slot.size(); }
+    std::uint64_t claimed_by(std::size_t i) const override { return slot.at(i).claimed_by; }
+    void publish(std::size_t i, ecpair::ConstBytes data) override {
+        slot.at(i) = Slot{0, true, Frame(data.begin(), data.end())};
+        next = i;
+        ++publications;
+    }
+    void withdraw_all() override {
+        for (auto& s : slot) s.ready = false;
+    }
+
+    // What the program does to a copy on its first pass.
+    void answer(Frame& frame) {
+        auto view = ecpair::wire::FrameView::parse(frame);
+        REQUIRE(view);
+        for (auto d : *view) {
+            const auto data = d.data();
+            if (!is_bridge_datagram(d) || data.size() < kBridgeHeaderSize ||
+                data[3] != static_cast<std::uint8_t>(BridgeKind::Poll)) {
+                continue;
+            }
+            const auto id = (std::uint64_t{ecpair::load_le<std::uint32_t>(data, 8)} << 32) |
+                            ecpair::load_le<std::uint32_t>(data, 12);
+            Slot* chosen = nullptr;
+            for (auto& s : slot) {
+                if (s.ready && s.claimed_by == id && s.data.size() == data.size()) chosen = &s;
+            }
+            Slot& n = slot[next];
+            if (chosen == nullptr && n.ready && n.claimed_by == 0 && n.data.size() == data.size()) {
+                n.claimed_by = id;
+                chosen = &n;
+            }
+            if (chosen == nullptr) continue;
+            std::copy(chosen->data.begin(), chosen->data.end(), data.begin());
+            d.set_wkc(static_cast<std::uint16_t>(d.wkc() + 1));
+        }
+    }
+};
+
 // The ring between an ACTIVE and an INACTIVE end. Each copy passes the
 // INACTIVE once, on its first pass (as StoreAndForward calls the seam), and
 // comes back to the ACTIVE (as the controller's receive path and the next
@@ -85,6 +141,10 @@ struct Ring {
     bool lose_main = false;
     bool lose_red = false;
     bool red_first = false;
+    // The INACTIVE on the kernel path: `program` answers the polls, the
+    // channel sees each copy as it arrived and prepares the next answers.
+    bool kernel = false;
+    ProgramSlots program;
 
     Ring() {
         a.role_changed(true);
@@ -99,6 +159,12 @@ struct Ring {
 
     // Frame through the INACTIVE as a copy arriving on `link`.
     void pass(Frame& copy, LinkRole link) {
+        if (kernel) {
+            const Frame arrived = copy;
+            program.answer(copy);
+            inactive->kernel_forwarded(link, arrived, program);
+            return;
+        }
         auto view = ecpair::wire::FrameView::parse(copy);
         REQUIRE(view);
         inactive->process(link, *view, true);
@@ -108,6 +174,7 @@ struct Ring {
     // One cycle: the ACTIVE sends, both copies pass the INACTIVE, the copies return.
     std::vector<std::pair<std::uint16_t, Frame>> cycle() {
         RecordingSender sender;
+        if (kernel) inactive->prepare_answers(program);  // the INACTIVE's cycle
         active->send_frames(sender, 1, budget);
         for (auto& [index, frame] : sender.sent) {
             Frame main = frame;
@@ -361,4 +428,90 @@ TEST_CASE("frames of another writer in between do not make a partner's copies co
     ring.pass(second, LinkRole::Red);  // the MAIN copy of the partner's datagram: a duplicate still
     CHECK(drain(ring.b.inbound()) == std::vector<Frame>{ethernet(1), ethernet(2)});
     CHECK(ring.b.counters().duplicates == 1);
+}
+
+// ---- the kernel path: answers prepared ahead
+
+TEST_CASE("kernel path: the INACTIVE's frames ride in prepared answers, once and in order", "[tap_bridge]") {
+    Ring ring;
+    ring.kernel = true;
+    SECTION("both copies") {}
+    SECTION("MAIN copies lost") { ring.lose_main = true; }
+    SECTION("RED copies lost") { ring.lose_red = true; }
+    SECTION("RED copy first") { ring.red_first = true; }
+    for (std::uint32_t n = 0; n < 30; ++n) ring.b.offer(ethernet(n, 400));
+    for (std::uint32_t n = 0; n < 5; ++n) ring.a.offer(ethernet(100 + n));
+    for (int c = 0; c < 12; ++c) ring.cycle();
+    const auto got = drain(ring.a.inbound());
+    REQUIRE(got.size() == 30);
+    for (std::uint32_t n = 0; n < 30; ++n) CHECK(got[n] == ethernet(n, 400));
+    CHECK(drain(ring.b.inbound()).size() == 5);  // the ACTIVE's DATA, delivered as the kernel forwards it
+    const auto a = ring.a.counters();
+    const auto b = ring.b.counters();
+    CHECK(a.dropped_lost == 0);
+    CHECK(a.dropped_garbled == 0);
+    CHECK(b.tx_frames == 30);
+    CHECK(ring.b.outbound_depth() == 0);
+    // Every poll was answered (each once) but perhaps the first: its size was
+    // not known before its first copy passed.
+    CHECK(a.polls_unanswered <= 1);
+    CHECK(a.polls_answered + a.polls_unanswered == a.polls_sent);
+    CHECK(b.answers_given == a.polls_answered);
+}
+
+TEST_CASE("kernel path: frames stay queued until a poll takes their answer", "[tap_bridge]") {
+    Ring ring;
+    ring.kernel = true;
+    ring.budget = 1;
+    ring.cycle();  // the first poll: its size is known from now on, an empty answer waits
+    const std::size_t before = ring.program.publications;
+    REQUIRE(before > 0);
+    ring.b.offer(ethernet(1));
+    ring.b.prepare_answers(ring.program);  // the INACTIVE's cycle: the empty answer is replaced
+    CHECK(ring.program.publications == before + 1);
+    CHECK(ring.b.outbound_depth() == 1);  // packed into the answer, still queued
+    ring.b.prepare_answers(ring.program);
+    CHECK(ring.program.publications == before + 1);  // nothing changed: the answer waits as it is
+
+    SECTION("a poll takes it: delivered, then off the queue") {
+        ring.cycle();
+        CHECK(drain(ring.a.inbound()) == std::vector<Frame>{ethernet(1)});
+        CHECK(ring.b.outbound_depth() == 0);
+        ring.cycle();
+        CHECK(ring.a.counters().rx_frames == 1);  // the next answers are empty: nothing twice
+    }
+    SECTION("the role changes before a poll took it: it goes as DATA, once") {
+        ring.swap_roles();  // b ACTIVE
+        // a is the INACTIVE now: its first look withdraws every answer b prepared.
+        ring.a.prepare_answers(ring.program);
+        CHECK(std::none_of(ring.program.slot.begin(), ring.program.slot.end(), [](const auto& s) { return s.ready; }));
+        ring.cycle();
+        CHECK(drain(ring.a.inbound()) == std::vector<Frame>{ethernet(1)});
+        CHECK(ring.a.counters().dropped_lost == 0);
+        CHECK(ring.b.outbound_depth() == 0);
+    }
+}
+
+TEST_CASE("kernel path: a poll of another size than the prepared answer is answered from the next one",
+          "[tap_bridge]") {
+    Ring ring;
+    ring.kernel = true;
+    ring.budget = 1;
+    ring.b.offer(ethernet(1, 100));
+    ring.lose_red = true;  // one copy: it passes before the answer is ready
+    ring.cycle();          // size learnt: an answer of 1486 bytes with frame 1 waits
+    ring.lose_red = false;
+    BridgeChannelOptions small = options(0xAAAA0009, ring.clock);
+    small.poll_size = 300;
+    BridgeChannel active(small);
+    active.role_changed(true);
+    ring.active = &active;  // another ACTIVE, polling with 300 bytes
+    ring.cycle();           // its first poll's first copy passes unanswered; the answer is prepared again for 300
+    ring.cycle();
+    ring.cycle();
+    CHECK(drain(ring.a.inbound()).empty());
+    CHECK(drain(active.inbound()) == std::vector<Frame>{ethernet(1, 100)});
+    CHECK(active.counters().dropped_lost == 0);
+    CHECK(ring.b.outbound_depth() == 0);
+    CHECK(ring.b.counters().tx_frames == 1);
 }

@@ -10,10 +10,12 @@
 #include <array>
 #include <atomic>
 #include <csignal>
+#include <cstdlib>
 #include <optional>
 #include <fstream>
 #include <set>
 #include <sstream>
+#include <string_view>
 #include <thread>
 #include <vector>
 
@@ -256,6 +258,10 @@ TEST_CASE("IP between the masters: ping both ways, TCP with checksums, the TAP s
     CHECK(m1.mtu() == ecpair::tap_bridge::largest_mtu());
     CHECK(m1.role() == "ACTIVE");
     CHECK(pair.m2.status().tap_bridge().role() == "INACTIVE");
+    // The path m2 forwards (and answers polls) on: AUTO is the kernel's where it attaches, as on CI.
+    const char* forced = std::getenv("ECPAIR_TEST_FORWARDING");
+    const std::string path = pair.m2.status().redundancy().forwarding_path();
+    CHECK(path == (forced != nullptr && std::string_view(forced) == "USER" ? "user space" : "kernel"));
     CHECK(pair.topology.m1().exec("ip link show ecpair0 | grep -q 'mtu 1446'") == 0);
 
     // IPv6 too, once duplicate address detection has let the addresses go (about a second).

@@ -295,10 +295,6 @@ Expected<DaemonSettings, ConfigError> parse_daemon_settings(const std::string& t
         if (!tap) return fail(tap.error().first, tap.error().second);
         if (!tap->mac) tap->mac = tap_bridge::default_mac(s.name, tap->name);
         s.tap = std::move(*tap);
-        if (s.redundancy.forwarding == ForwardingMode::Kernel) {
-            return fail("redundancy.forwarding", "KERNEL does not answer the TAP bridge's polls yet: use AUTO or USER "
-                                                 "with a tap block");
-        }
     }
     if (proto.has_hot_connect()) {
         const auto& h = proto.hot_connect();

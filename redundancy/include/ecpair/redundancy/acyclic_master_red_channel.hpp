@@ -16,6 +16,13 @@
 //                           (fill a poll in place), forwarded() after it left
 //                           (deliver what it carried); first_pass is true when
 //                           the frame came straight from the ACTIVE.
+//   INACTIVE, kernel path:  the program forwards every frame and answers the
+//                           polls from answers the channel prepared ahead
+//                           (PreparedPollAnswers): kernel_forwarded() with
+//                           each first-pass frame as it arrived (receive
+//                           threads: deliver what it carried, see which
+//                           answer its polls took), prepare_answers() once a
+//                           cycle (cycle thread: frames queued since).
 //   cycle thread:           role_changed() when the role takes effect (and
 //                           once when the channel is attached).
 //
@@ -28,6 +35,7 @@
 #include "ecpair/master/cycle_extension.hpp"
 #include "ecpair/master/link_role.hpp"
 #include "ecpair/master/redundant_merge.hpp"
+#include "ecpair/redundancy/prepared_poll_answers.hpp"
 #include "ecpair/wire/frame.hpp"
 
 namespace ecpair::redundancy {
@@ -45,6 +53,9 @@ public:
 
     virtual void process(master::LinkRole arrived_on, wire::FrameView& frame, bool first_pass) = 0;
     virtual void forwarded(master::LinkRole arrived_on, ConstBytes frame, bool first_pass) = 0;
+
+    virtual void kernel_forwarded(master::LinkRole arrived_on, ConstBytes frame, PreparedPollAnswers& answers) = 0;
+    virtual void prepare_answers(PreparedPollAnswers& answers) = 0;
 };
 
 // FrameSender indices at and above this belong to the channel (the CMF's

@@ -18,12 +18,16 @@
 // measured here), far too long for the cycle thread at a role change.
 //
 // What user space keeps doing: feeding the answer (set_answer, every cycle
-// and when the hand-off acknowledgement changes) and the link states (the
-// link monitor's view). The counters are read from the program's maps.
+// and when the hand-off acknowledgement changes), the TAP bridge's answers
+// to polls (PreparedPollAnswers: the channel prepares them ahead) and the
+// link states (the link monitor's view). The counters are read from the
+// program's maps.
 //
 // Threads: every member may be called from any thread. set_answer and
 // attach/detach are serialised by a short lock; the switch and the link
-// states are single map writes; counters() reads the maps under a lock of
+// states are single map writes; the poll answers are the program's memory,
+// mapped here (PreparedPollAnswers' callers serialise their calls: the
+// channel's lock); counters() reads the maps under a lock of
 // its own (a status request never holds up the cycle thread's set_answer).
 
 #include <array>
@@ -36,6 +40,7 @@
 #include "ecpair/common/bytes.hpp"
 #include "ecpair/common/expected.hpp"
 #include "ecpair/master/link_role.hpp"
+#include "ecpair/redundancy/prepared_poll_answers.hpp"
 #include "ecpair/redundancy/store_and_forward.hpp"
 
 struct store_and_forward_bpf;
@@ -51,7 +56,7 @@ struct KernelForwardingVerdict {
     std::vector<std::uint8_t> frame;  // the frame as it left the program
 };
 
-class KernelForwarding {
+class KernelForwarding final : public PreparedPollAnswers {
 public:
     // Loads the program for these two interfaces (names, looked up now).
     // Fails naming the interface that does not exist, or why the kernel
@@ -59,7 +64,7 @@ public:
     static Expected<std::unique_ptr<KernelForwarding>, std::string> open(const std::string& main_interface,
                                                                          const std::string& red_interface,
                                                                          std::size_t master_pd_in_size);
-    ~KernelForwarding();  // detaches
+    ~KernelForwarding() override;  // detaches
     KernelForwarding(const KernelForwarding&) = delete;
     KernelForwarding& operator=(const KernelForwarding&) = delete;
 
@@ -78,6 +83,12 @@ public:
     // sections of every CMF on its first pass (master_pd_in is cut to the
     // size given to open()).
     void set_answer(ConstBytes master_pd_in, ConstBytes standby_status);
+
+    // PreparedPollAnswers: the program's slots (ECPAIR_KFWD_BRIDGE_SLOTS).
+    std::size_t slots() const override;
+    std::uint64_t claimed_by(std::size_t slot) const override;
+    void publish(std::size_t slot, ConstBytes data) override;
+    void withdraw_all() override;
 
     // Sums over CPUs; send_failures stays 0 (a redirect cannot fail visibly).
     StoreAndForwardCounters counters() const;

@@ -14,6 +14,10 @@
 //            fill it with our queued frames; the other copy of the same
 //            poll, arriving on the other adapter, gets the same answer (fill
 //            once). After forwarding: deliver the ACTIVE's DATA once.
+//            With the kernel path the program answers the polls, from
+//            answers prepared here ahead (prepare_answers): the next one is
+//            packed from the queue's head but the frames stay queued until
+//            a poll took it, so an answer that no poll takes loses nothing.
 //
 // Delivery is in order and at most once per datagram: by the writer's
 // session id and sequence number (a gap counts as lost). A datagram that
@@ -104,6 +108,9 @@ public:
     void returned(master::LinkRole arrived_on, ConstBytes frame) override;
     void process(master::LinkRole arrived_on, wire::FrameView& frame, bool first_pass) override;
     void forwarded(master::LinkRole arrived_on, ConstBytes frame, bool first_pass) override;
+    void kernel_forwarded(master::LinkRole arrived_on, ConstBytes frame,
+                          redundancy::PreparedPollAnswers& answers) override;
+    void prepare_answers(redundancy::PreparedPollAnswers& answers) override;
 
 private:
     // What the INACTIVE wrote into one poll, for its other copy.
@@ -116,11 +123,26 @@ private:
     };
     static constexpr std::size_t kFills = 8;
 
+    // INACTIVE, kernel path: what the channel put into one of the program's slots.
+    struct PreparedAnswer {
+        bool published = false;
+        bool taken = false;  // a poll claimed it
+        std::uint32_t sequence = 0;
+        std::size_t frames = 0;  // from the queue's head, still queued until a poll takes them
+        std::size_t bytes = 0;
+        std::size_t size = 0;  // the poll size it answers
+    };
+    static constexpr std::size_t kMaxPreparedSlots = 8;
+
     // Sends one bridge datagram (data of `size` bytes in scratch_) as a frame of its own.
     void send_datagram(master::FrameSender& sender, std::uint16_t index, std::size_t size);
     // Packs queued frames while they fit; *head_too_large tells whether the
     // head frame fits not even the empty writer.
     std::size_t pack(BridgePayloadWriter& writer, bool* head_too_large = nullptr);
+    // Kernel path: the answers polls took since the last look (their frames
+    // leave the queue, oldest first), then the next answer in the next slot.
+    void settle_taken(redundancy::PreparedPollAnswers& answers, std::size_t slots);
+    void publish_next(redundancy::PreparedPollAnswers& answers, std::size_t slots, std::size_t poll_size);
     void answer(wire::DatagramView datagram, const BridgeHeader& poll);
     // Delivers a DATA or ANSWER datagram of the partner once; false if it was a duplicate.
     bool deliver(const BridgeDatagram& datagram);
@@ -146,6 +168,12 @@ private:
     std::mutex fill_mutex_;
     std::array<Fill, kFills> fills_{};
     std::size_t next_fill_ = 0;
+    // INACTIVE, kernel path (under fill_mutex_ too).
+    std::array<PreparedAnswer, kMaxPreparedSlots> prepared_{};
+    std::size_t prepared_next_ = 0;  // the slot the program takes from
+    bool prepared_stale_ = true;     // withdraw them all first (set at a role change)
+    std::array<std::uint8_t, kMaxBridgeDatagramData> prepare_scratch_{};
+    std::atomic<std::size_t> poll_size_{0};  // of the ACTIVE's last poll seen
 
     // Delivery (either role): the last sequence delivered per writer session.
     // A few sessions are remembered, so that frames of another writer (a

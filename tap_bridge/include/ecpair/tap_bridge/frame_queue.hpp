@@ -44,6 +44,19 @@ public:
         depth_.store(count_, std::memory_order_relaxed);
         return taken;
     }
+    // Shows frames from the head to look(frame) while it accepts them and
+    // `max` were not shown; nothing is taken. Returns the frames accepted.
+    template <class Look>
+    std::size_t peek_while(Look&& look, std::size_t max = SIZE_MAX) const {
+        std::lock_guard lock(mutex_);
+        std::size_t seen = 0;
+        while (seen < count_ && seen < max) {
+            const Slot& slot = slots_[(head_ + seen) % slots_.size()];
+            if (!look(ConstBytes(slot.bytes.data(), slot.size))) break;
+            ++seen;
+        }
+        return seen;
+    }
     // Drops the head frame (one that fits nowhere); false when empty.
     bool drop_head();
 
