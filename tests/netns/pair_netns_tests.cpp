@@ -221,6 +221,16 @@ TEST_CASE("line breaks anywhere keep OP and the INACTIVE mirroring", "[netns][re
         CHECK(m1.redundancy().red_state() == "ACTIVE");
         CHECK(m2.redundancy().mirrored_cycle() > before.redundancy().mirrored_cycle());
         CHECK(m2.master_state() == "OP");
+        // On a mismatch, m1's log says which cycle and slave, and what the ring did around it.
+        std::string says;
+        std::istringstream log(pair.m1.log());
+        for (std::string line; std::getline(log, line);) {
+            if (line.find("loopback") != std::string::npos || line.find("line break") != std::string::npos ||
+                line.find("ring") != std::string::npos) {
+                says += line + "\n";
+            }
+        }
+        INFO("m1 said:\n" << says);
         CHECK(m1.loopback().mismatches() == 0);
     };
     REQUIRE(pair.ecsim.ctl("break 2").first == 0);
@@ -275,8 +285,13 @@ TEST_CASE("a frame looping between two INACTIVE masters is forwarded at most onc
     // m2 first, then m1, which finds no hot standby to hand over to and steps down.
     REQUIRE(pair.m2.force_standby(true).empty());
     REQUIRE(pair.m1.force_standby(true).empty());
-    REQUIRE(pair.m1.wait_for([](const StatusReply& s) { return s.redundancy().red_state() == "INACTIVE"; }, 5s));
-    CHECK(pair.m1.status().supervisor().no_active().find("forced to standby") != std::string::npos);
+    // The role and the supervisor's words are published apart: wait for both.
+    REQUIRE(pair.m1.wait_for(
+        [](const StatusReply& s) {
+            return s.redundancy().red_state() == "INACTIVE" &&
+                   s.supervisor().no_active().find("forced to standby") != std::string::npos;
+        },
+        5s));
     std::this_thread::sleep_for(200ms);
     const auto dropped = [&pair] {
         return pair.m1.status().redundancy().dropped_circulating() + pair.m2.status().redundancy().dropped_circulating();
