@@ -14,6 +14,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source deploy/lib/topology.sh
+source bench/status_figures.sh
 cycle_us=${1:-1000}
 seconds=${2:-600}
 bin=${ECPAIR_BUILD_DIR:-$(pwd)/build}
@@ -67,21 +68,11 @@ sleep "$seconds"
 end_daemon=$(ticks "$daemon_pid"); end_sim=$(ticks "$ecsim_pid"); end=$(date +%s.%N)
 end_status=$(status)
 
-number() { grep -oE "$2 [0-9]+" <<<"$1" | head -1 | grep -oE '[0-9]+$'; }
-late() { grep -oE '\(([0-9]+) late' <<<"$1" | grep -oE '[0-9]+'; }
-delta() { echo $(( $(number "$end_status" "$1") - $(number "$start_status" "$1") )); }
 hz=$(getconf CLK_TCK)
 cpu() { awk -v a="$1" -v b="$2" -v hz="$hz" -v s="$start" -v e="$end" 'BEGIN { printf "%.1f%%", (b - a) / hz / (e - s) * 100 }'; }
 
 echo "cycle ${cycle_us} µs, ${seconds} s in OP, $slaves slaves, $(( slaves * 152 )) bytes of process data, cable redundancy $cable_redundancy"
-echo "  cycles:           $(delta cycles)"
-echo "  late cycles:      $(( $(late "$end_status") - $(late "$start_status") ))   (woke more than a quarter period after the deadline)"
-grep -oE 'cycles [0-9]+ \([^)]*\)' <<<"$end_status" | sed 's/^/  whole run:        /'
-echo "  frames sent:      $(delta 'frames sent')"
-echo "  frames lost:      $(delta 'lost')   (not complete when the next cycle started)"
-echo "  late copies:      $(delta 'late copies')"
-echo "  incomplete cycles: $(delta 'incomplete cycles')"
-echo "  WKC errors:       $(delta 'WKC errors')"
+print_cycle_figures
 grep -E 'loopback' <<<"$end_status" | sed 's/^ */  /'
 echo "  CPU ecpaird:      $(cpu "$start_daemon" "$end_daemon") of one core"
 echo "  CPU ecsim:        $(cpu "$start_sim" "$end_sim") of one core"

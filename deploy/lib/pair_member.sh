@@ -4,7 +4,8 @@
 # No initial role unless one is given: the members' supervisors decide
 # (listen, then take over or stand by); the link guard is on (a pair's
 # default). PAIR_FORWARDING=KERNEL|USER|AUTO, when set, picks the
-# INACTIVE's store-and-forward path (redundancy.forwarding). Source this file.
+# INACTIVE's store-and-forward path (redundancy.forwarding); PAIR_CYCLE_US
+# another cycle time than 1000 µs. Source this file.
 
 pair_member_config() {  # name initial-state|"" eni control-dir demo-line [extra-line]
   local role=""
@@ -13,7 +14,7 @@ pair_member_config() {  # name initial-state|"" eni control-dir demo-line [extra
 name: "$1"
 interfaces { main: "$1-main" red: "$1-red" }
 eni_path: "$3"
-cycle_time_us: 1000
+cycle_time_us: ${PAIR_CYCLE_US:-1000}
 cable_redundancy: true
 split_lrw: true
 $5

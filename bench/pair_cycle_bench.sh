@@ -1,0 +1,67 @@
+#!/usr/bin/env bash
+# The pair at one cycle time (issue 12): m1 ACTIVE and m2 INACTIVE on
+# ecsim's 5 slaves (TwinCAT ENI, cable redundancy, LRW split, both masters
+# SCHED_FIFO), SECONDS in OP, m2 forwarding on FORWARDING (AUTO: the kernel
+# where its program attaches). Prints the ACTIVE's figures of the run
+# (cycles, late cycles, frames lost, incomplete cycles, the cycle thread's
+# wake-up latency), m2's forwarding path, and at the slaves, from ecsim's
+# capture: the cyclic frames that entered the segment, their largest gap
+# (the longest time the slaves went without process data) and the cycles
+# missing.
+#
+#   bash bench/pair_cycle_bench.sh [CYCLE_US] [SECONDS] [FORWARDING]   (defaults: 1000 20 AUTO)
+# Needs root and a build in ./build (or ECPAIR_BUILD_DIR).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+source deploy/lib/topology.sh
+source deploy/lib/pair_member.sh
+source bench/status_figures.sh
+export PAIR_CYCLE_US=${1:-1000}
+seconds=${2:-20}
+export PAIR_FORWARDING=${3:-AUTO}
+bin=${ECPAIR_BUILD_DIR:-$(pwd)/build}
+eni=$(pwd)/tests/data/eni/twincat_kpierczy_5slaves.xml
+prefix=ecpc$$
+work=$(mktemp -d /tmp/ecpair-pairbench.XXXXXX)
+ctl=$bin/supervisor/ecpairctl/ecpairctl
+
+cleanup() {
+  for pid in ${m1:-} ${m2:-} ${sim:-}; do kill "$pid" 2>/dev/null && wait "$pid" 2>/dev/null || true; done
+  topology_down "$prefix"
+  rm -rf "$work"
+}
+trap cleanup EXIT
+
+member() {  # name initial-state
+  pair_member_config "$1" "$2" "$eni" "$work" "demo { kind: WALKING_BIT }" 'log_level: "warn"' >"$work/$1.textproto"
+  ip netns exec "$prefix-$1" "$bin/supervisor/ecpaird/ecpaird" --config "$work/$1.textproto" >"$work/$1.log" 2>&1 &
+}
+wait_for() {  # socket pattern
+  for _ in $(seq 300); do grep -q "$2" <<<"$("$ctl" status --socket "$1" 2>/dev/null)" && return 0; sleep 0.1; done
+  echo "timed out waiting for '$2' on $1" >&2; cat "$work"/*.log >&2; return 1
+}
+
+topology_up "$prefix" pair
+ip netns exec "$prefix-sim" "$bin/sim/segment/ecsim" --eni "$eni" --main-if sim-main --red-if sim-red \
+  --control "$work/ecsim.sock" --pcap "$work/segment.pcap" --realtime-priority 70 --log-level warn >"$work/ecsim.log" 2>&1 &
+sim=$!
+for _ in $(seq 100); do [ -S "$work/ecsim.sock" ] && break; sleep 0.1; done
+member m1 ACTIVE; m1=$!
+member m2 INACTIVE; m2=$!
+wait_for "$work/m1.sock" "master OP"
+wait_for "$work/m2.sock" "partner seen, mirrored"
+sleep 1
+
+start_status=$("$ctl" status --socket "$work/m1.sock")
+from_us=$(date +%s%6N)
+sleep "$seconds"
+to_us=$(date +%s%6N)
+end_status=$("$ctl" status --socket "$work/m1.sock")
+forwarding=$("$ctl" status --socket "$work/m2.sock" | grep -o "store-and-forward ([a-z ]*)" || echo "store-and-forward (?)")
+
+echo "the pair at ${PAIR_CYCLE_US} µs, ${seconds} s in OP, m2 $forwarding, load average $(cut -d' ' -f1-3 /proc/loadavg)"
+echo " m1 (ACTIVE):"
+print_cycle_figures
+kill "$sim"; wait "$sim" 2>/dev/null || true; sim=
+echo " at the slaves (cyclic frames entering the segment):"
+"$bin/bench/ecpair-capture-analysis" cadence "$work/segment.pcap" "$from_us" "$to_us" "$PAIR_CYCLE_US" | sed 's/^/  /'
