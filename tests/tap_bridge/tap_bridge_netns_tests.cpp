@@ -286,8 +286,6 @@ TEST_CASE("IP between the masters: ping both ways, TCP with checksums, the TAP s
         CHECK((type == 0x0800 || type == 0x0806 || type == 0x86dd));  // IPv4, ARP, IPv6: never 0x88a4
     }
 
-    check_dissector(pair);
-
     transfer(pair.topology.m1(), pair.topology.m2(), kM2Address, 3u << 20, 7701);
     transfer(pair.topology.m2(), pair.topology.m1(), kM1Address, 1u << 20, 7702);
 
@@ -322,6 +320,15 @@ TEST_CASE("IP between the masters: ping both ways, TCP with checksums, the TAP s
     CHECK(b.dropped_garbled() == 0);
     CHECK(a.dropped_oversized() == 0);
     CHECK(b.dropped_oversized() == 0);
+}
+
+// Its own case: the closed-ring flags it expects do not hold where the
+// cycle stalls (ecpaird under TSan), and the IP case above runs there too.
+TEST_CASE("Wireshark's dissector reads the bridge's datagrams: the CMF header and the kinds and CRCs and the IP inside",
+          "[netns][tap_bridge]") {
+    BridgedPair pair;
+    pair.wait_flowing();
+    check_dissector(pair);
 }
 
 TEST_CASE("a TCP session between the masters survives a switchover (hand-off)", "[netns][tap_bridge][redundancy]") {
