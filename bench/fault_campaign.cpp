@@ -29,16 +29,17 @@
 #include <signal.h>
 
 #include <algorithm>
+#include <array>
 #include <cstdio>
 #include <functional>
 #include <iostream>
-#include <map>
 #include <random>
 #include <thread>
 
 #include <boost/program_options.hpp>
 #include <fmt/format.h>
 
+#include "ecpair/control/image_history_comparison.hpp"
 #include "ecpair/link/pcap_link.hpp"
 #include "ecpair/wire/frame.hpp"
 #include "supervised_pair.hpp"
@@ -248,30 +249,12 @@ private:
             e.failures.push_back(std::to_string(expired) + " SM watchdog expiries (outputs cleared)");
         }
         std::this_thread::sleep_for(300ms);
-        if (const auto differ = images_differ(200); differ > 0) {
-            e.failures.push_back(std::to_string(differ) + " of the last cycles differ between the two images");
+        // The newest 200 cycles one member recorded as the ACTIVE and the other mirrored.
+        const auto images = ecpair::control::compare_image_histories(pair_.member(0).image_history(),
+                                                                     pair_.member(1).image_history(), 200);
+        if (!images.differ.empty() || !images.both_active.empty()) {
+            e.failures.push_back("the images of the newest cycles differ: " + images.describe());
         }
-    }
-
-    // Cycles among the newest `newest` (SAFEOP/OP) recorded by both whose images differ.
-    std::size_t images_differ(std::size_t newest) {
-        std::array<std::map<std::uint64_t, std::pair<std::uint32_t, std::uint32_t>>, 2> h;
-        for (int i = 0; i < 2; ++i) {
-            const auto history = pair_.member(i).image_history();
-            for (const auto& entry : history.entries()) {
-                if (entry.master_state() == "OP") h[static_cast<std::size_t>(i)][entry.cycle()] = {entry.inputs_crc(), entry.outputs_crc()};
-            }
-        }
-        std::vector<std::uint64_t> common;
-        for (const auto& [cycle, crcs] : h[0]) {
-            if (h[1].contains(cycle)) common.push_back(cycle);
-        }
-        std::size_t differ = 0;
-        const std::size_t from = common.size() > newest ? common.size() - newest : 0;
-        for (std::size_t i = from; i < common.size(); ++i) {
-            if (h[0][common[i]] != h[1][common[i]]) ++differ;
-        }
-        return differ;
     }
 
     // After a failed check: give the campaign a pair to go on with.

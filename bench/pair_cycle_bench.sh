@@ -15,6 +15,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 source deploy/lib/topology.sh
 source deploy/lib/pair_member.sh
+source bench/pair_bench_lib.sh
 source bench/status_figures.sh
 export PAIR_CYCLE_US=${1:-1000}
 seconds=${2:-20}
@@ -25,31 +26,18 @@ prefix=ecpc$$
 work=$(mktemp -d /tmp/ecpair-pairbench.XXXXXX)
 ctl=$bin/supervisor/ecpairctl/ecpairctl
 
-cleanup() {
-  for pid in ${m1:-} ${m2:-} ${sim:-}; do kill "$pid" 2>/dev/null && wait "$pid" 2>/dev/null || true; done
-  topology_down "$prefix"
-  rm -rf "$work"
-}
-trap cleanup EXIT
+trap pair_bench_cleanup EXIT
 
-member() {  # name initial-state
-  pair_member_config "$1" "$2" "$eni" "$work" "demo { kind: WALKING_BIT }" 'log_level: "warn"' >"$work/$1.textproto"
-  ip netns exec "$prefix-$1" "$bin/supervisor/ecpaird/ecpaird" --config "$work/$1.textproto" >"$work/$1.log" 2>&1 &
-}
-wait_for() {  # socket pattern
-  for _ in $(seq 300); do grep -q "$2" <<<"$("$ctl" status --socket "$1" 2>/dev/null)" && return 0; sleep 0.1; done
-  echo "timed out waiting for '$2' on $1" >&2; cat "$work"/*.log >&2; return 1
-}
 
 topology_up "$prefix" pair
 ip netns exec "$prefix-sim" "$bin/sim/segment/ecsim" --eni "$eni" --main-if sim-main --red-if sim-red \
   --control "$work/ecsim.sock" --pcap "$work/segment.pcap" --realtime-priority 70 --log-level warn >"$work/ecsim.log" 2>&1 &
 sim=$!
 for _ in $(seq 100); do [ -S "$work/ecsim.sock" ] && break; sleep 0.1; done
-member m1 ACTIVE; m1=$!
-member m2 INACTIVE; m2=$!
-wait_for "$work/m1.sock" "master OP"
-wait_for "$work/m2.sock" "partner seen, mirrored"
+pair_bench_member m1 ACTIVE; m1=$!
+pair_bench_member m2 INACTIVE; m2=$!
+pair_bench_wait_for "$work/m1.sock" "master OP"
+pair_bench_wait_for "$work/m2.sock" "partner seen, mirrored"
 sleep 1
 
 start_status=$("$ctl" status --socket "$work/m1.sock")

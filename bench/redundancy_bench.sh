@@ -17,6 +17,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 source deploy/lib/topology.sh
 source deploy/lib/pair_member.sh
+source bench/pair_bench_lib.sh
 seconds=${1:-10}
 count=${2:-10}
 bin=${ECPAIR_BUILD_DIR:-$(pwd)/build}
@@ -26,21 +27,8 @@ work=$(mktemp -d /tmp/ecpair-redbench.XXXXXX)
 ctl=$bin/supervisor/ecpairctl/ecpairctl
 analysis=$bin/bench/ecpair-capture-analysis
 
-cleanup() {
-  for pid in ${m1:-} ${m2:-} ${sim:-}; do kill "$pid" 2>/dev/null && wait "$pid" 2>/dev/null || true; done
-  topology_down "$prefix"
-  rm -rf "$work"
-}
-trap cleanup EXIT
+trap pair_bench_cleanup EXIT
 
-member() {  # name initial-state
-  pair_member_config "$1" "$2" "$eni" "$work" "demo { kind: WALKING_BIT }" 'log_level: "warn"' >"$work/$1.textproto"
-  ip netns exec "$prefix-$1" "$bin/supervisor/ecpaird/ecpaird" --config "$work/$1.textproto" >"$work/$1.log" 2>&1 &
-}
-wait_for() {  # socket pattern
-  for _ in $(seq 300); do "$ctl" status --socket "$1" 2>/dev/null | grep -q "$2" && return 0; sleep 0.1; done
-  echo "timed out waiting for '$2' on $1" >&2; return 1
-}
 capture() {  # ns interface file   (tshark's messages in file.log, shown if it fails)
   ( ip netns exec "$1" tshark -q -i "$2" -f 'ether proto 0x88a4' -a "duration:$seconds" -w "$3" >"$3.log" 2>&1 ||
     { cat "$3.log" >&2; exit 1; } ) &
@@ -51,10 +39,10 @@ ip netns exec "$prefix-sim" "$bin/sim/segment/ecsim" --eni "$eni" --main-if sim-
   --control "$work/ecsim.sock" --pcap "$work/segment.pcap" --realtime-priority 70 --log-level warn >"$work/ecsim.log" 2>&1 &
 sim=$!
 for _ in $(seq 100); do [ -S "$work/ecsim.sock" ] && break; sleep 0.1; done
-member m1 ACTIVE; m1=$!
-PAIR_FORWARDING=USER member m2 INACTIVE; m2=$!
-wait_for "$work/m1.sock" "master OP"
-wait_for "$work/m2.sock" "partner seen, mirrored"
+pair_bench_member m1 ACTIVE; m1=$!
+PAIR_FORWARDING=USER pair_bench_member m2 INACTIVE; m2=$!
+pair_bench_wait_for "$work/m1.sock" "master OP"
+pair_bench_wait_for "$work/m2.sock" "partner seen, mirrored"
 
 saf_delay() {  # path
   echo "== store-and-forward delay of the INACTIVE (m2), $1 path, ${seconds} s at 1 ms"
@@ -69,9 +57,9 @@ saf_delay() {  # path
 }
 saf_delay user
 kill "$m2"; wait "$m2" 2>/dev/null || true; m2=
-PAIR_FORWARDING=KERNEL member m2 INACTIVE; m2=$!
-wait_for "$work/m2.sock" "partner seen, mirrored"
-wait_for "$work/m2.sock" "store-and-forward (kernel)"
+PAIR_FORWARDING=KERNEL pair_bench_member m2 INACTIVE; m2=$!
+pair_bench_wait_for "$work/m2.sock" "partner seen, mirrored"
+pair_bench_wait_for "$work/m2.sock" "store-and-forward (kernel)"
 saf_delay kernel
 echo "   load average: $(cut -d' ' -f1-3 /proc/loadavg)"
 
@@ -95,13 +83,13 @@ echo "   m2-main -> m2-red:"
 ip -n "$prefix-m2" link del br0
 
 echo "== takeover gap by API, $count switchovers (red-state INACTIVE on the ACTIVE, then ACTIVE on its partner)"
-member m2 INACTIVE; m2=$!
-wait_for "$work/m2.sock" "partner seen, mirrored"
+pair_bench_member m2 INACTIVE; m2=$!
+pair_bench_wait_for "$work/m2.sock" "partner seen, mirrored"
 active=m1; standby=m2
 for _ in $(seq "$count"); do
   "$ctl" red-state --socket "$work/$active.sock" INACTIVE >/dev/null
   "$ctl" red-state --socket "$work/$standby.sock" ACTIVE >/dev/null
-  wait_for "$work/$active.sock" "partner seen, mirrored"
+  pair_bench_wait_for "$work/$active.sock" "partner seen, mirrored"
   tmp=$active; active=$standby; standby=$tmp
   sleep 0.5
 done

@@ -27,7 +27,11 @@
 #            event pump, slave monitor), a pair that mirrors
 #            (link guard heartbeat, topology verifier) and IP over the TAP
 #            bridge (TAP I/O thread). deploy/tsan.supp says what is
-#            suppressed and why.
+#            suppressed and why. Instrumented, the daemons stall for tens
+#            of ms: in this build the tests give the link guard, the comm
+#            timeout and partner silence ten times as long and run the pair
+#            at 4 ms (tests/support/ecpaird_process.cpp, pair_netns_tests.cpp);
+#            the main stage checks the timing.
 # ECPAIR_TEST_STAGES picks stages (default all three: "main asan tsan";
 # their times: docs/PERFORMANCE.md "CI stages"). Every selected stage
 # runs even when an earlier one failed; the exit status is 1 if any failed.
@@ -40,12 +44,29 @@ stages=${ECPAIR_TEST_STAGES:-main asan tsan}
 jobs=$(nproc)
 summary=()
 failed=0
+# Each stage lists the tests it failed in $failures/<stage>: the summary at
+# the end names them (a CI log is often read from its end).
+failures=$(mktemp -d /tmp/ecpair-test-failures.XXXXXX)
+trap 'rm -rf "$failures"' EXIT
+
+# ctest in a build tree; the names of the tests that failed go to the stage's list.
+run_ctest() {
+  local dir=$1
+  shift
+  local status=0
+  rm -f "$dir/Testing/Temporary/LastTestsFailed.log"  # ctest leaves an older run's when all pass
+  ctest --test-dir "$dir" --output-on-failure -j2 "$@" || status=$?
+  if [ "$status" -ne 0 ] && [ -f "$dir/Testing/Temporary/LastTestsFailed.log" ]; then
+    sed 's/^[0-9]*://' "$dir/Testing/Temporary/LastTestsFailed.log" >>"$failures/$stage"
+  fi
+  return "$status"
+}
 
 stage_main() {
   bash deploy/install-deps.sh
   cmake -S . -B build-main -DCMAKE_BUILD_TYPE=Release -DECPAIR_WERROR=ON -DECPAIR_BUILD_UNIT_TESTS=OFF
   cmake --build build-main -j"$jobs"
-  ctest --test-dir build-main --output-on-failure -j2
+  run_ctest build-main
 }
 
 stage_asan() {
@@ -56,7 +77,7 @@ stage_asan() {
   ASAN_SYMBOLIZER_PATH=$(command -v llvm-symbolizer) \
   ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1:detect_stack_use_after_return=1 \
   UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-    ctest --test-dir build-asan --output-on-failure -j2 -LE 'netns|package'
+    run_ctest build-asan -LE 'netns|package'
 }
 
 # The unit test binaries of the threaded components, and the namespace tests
@@ -91,25 +112,28 @@ stage_tsan() {
   echo "   unit tests: ${tsan_unit_tests[*]}"
   printf '%s\n' "${tsan_unit_tests[@]}" |
     xargs -P2 -I{} bash -c 'log="$1/$(basename "$2").log"
-                            "${@:3}" "build-tsan/tests/$2" >"$log" 2>&1 || { echo "   FAILED: $2"; tail -30 "$log"; exit 1; }' \
-      _ "$reports" {} "${run[@]}" || status=1
+                            "${@:4}" "build-tsan/tests/$3" >"$log" 2>&1 ||
+                              { echo "   FAILED: $3"; echo "$3" >>"$2"; tail -30 "$log"; exit 1; }' \
+      _ "$reports" "$failures/tsan" {} "${run[@]}" || status=1
   echo "   netns: master, pair, TAP bridge"
   # Catch reads a comma in a test name as "or" unless escaped (and Catch 2.13
   # glues two name arguments into one name: several cases would be one
   # argument, comma-separated); --warn NoTests fails a binary whose names
   # matched nothing, so no case is skipped silently.
-  "${run[@]}" build-tsan/tests/netns/master_netns_tests --warn NoTests \
-    "ecpaird brings a generated segment to OP with cable redundancy and data flows both ways" || status=1
+  tsan_case() {  # binary, case name
+    "${run[@]}" "build-tsan/tests/$1" --warn NoTests "$2" || { echo "$1: $2" >>"$failures/tsan"; status=1; }
+  }
+  tsan_case netns/master_netns_tests "ecpaird brings a generated segment to OP with cable redundancy and data flows both ways"
   # The takeover case is not run here: under TSan the members' cycles stall
   # for more than the link guard's 50 ms, the guard takes the links down, and
   # the pair never holds a checked OP to take over from (the main stage runs it).
-  "${run[@]}" build-tsan/tests/netns/pair_netns_tests --warn NoTests \
-    "the INACTIVE mirrors the ACTIVE's image every cycle and master PD goes both ways" || status=1
-  "${run[@]}" build-tsan/tests/tap_bridge/tap_bridge_netns_tests --warn NoTests \
-    'IP between the masters: ping both ways\, TCP with checksums\, the TAP sees only IP' || status=1
+  tsan_case netns/pair_netns_tests "the INACTIVE mirrors the ACTIVE's image every cycle and master PD goes both ways"
+  tsan_case tap_bridge/tap_bridge_netns_tests 'IP between the masters: ping both ways\, TCP with checksums\, the TAP sees only IP'
   unset TSAN_OPTIONS
   if compgen -G "$reports/tsan.*" >/dev/null; then
     cat "$reports"/tsan.* >&2
+    echo "TSan reports: $(grep -h -m1 '^WARNING: ThreadSanitizer' "$reports"/tsan.* | sort | uniq -c | tr -s ' ' | paste -sd ';')" \
+      >>"$failures/tsan"
     status=1
   fi
   rm -rf "$reports"
@@ -150,4 +174,10 @@ for stage in $stages; do
 done
 echo "== stage timings ($(nproc) cores; CPU = user + system of everything the stage ran)"
 printf '   %s\n' "${summary[@]}"
+for stage in $stages; do
+  if [ -s "$failures/$stage" ]; then
+    echo "== failed in stage $stage:"
+    sed 's/^/   /' "$failures/$stage"
+  fi
+done
 exit "$failed"

@@ -92,7 +92,7 @@ void Mirror::publish(master::LinkRole arrived_on) {
                 latest_.master_pd_out.begin());
     latest_.copies = bit;
     latest_.complete = latest_.flags.ring_broken;
-    history_.record(latest_.cycle, latest_.inputs, latest_.outputs, latest_.master_state);
+    history_.record(latest_.cycle, latest_.inputs, latest_.outputs, latest_.master_state, true);
 }
 
 namespace {

@@ -456,7 +456,7 @@ void RedundancyController::send_frames(master::FrameSender& sender, std::uint64_
         log()->error("CMF not sent: {}", written.error().describe());
         return;
     }
-    history_.record(cycle, image_->inputs(), image_->outputs(), content.master_state);
+    history_.record(cycle, image_->inputs(), image_->outputs(), content.master_state, false);
     if (channel_) {
         ChannelSender channel_sender(sender, kAcyclicChannelIndexBase, options_.parameters.max_acyc_frames_per_cycle);
         channel_->send_frames(channel_sender, cycle, options_.parameters.max_acyc_frames_per_cycle);

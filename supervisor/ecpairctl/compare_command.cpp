@@ -1,15 +1,15 @@
 // `ecpairctl compare --socket A --socket B`: the two members' image
-// histories compared cycle by cycle (exit 1 when any SAFEOP/OP cycle differs
-// or none is in both).
+// histories compared cycle by cycle (control/image_history_comparison.hpp;
+// exit 1 when a cycle differs, both members sent in one, or none was compared).
 
 #include <array>
-#include <map>
 #include <ostream>
 
 #include <fmt/format.h>
 #include <fmt/ostream.h>
 
 #include "ctl_commands.hpp"
+#include "ecpair/control/image_history_comparison.hpp"
 #include "daemon_connection.hpp"
 #include "exit_codes.hpp"
 
@@ -28,30 +28,17 @@ int run_compare_command(const CommandArgs& args, std::ostream& out, std::ostream
         fmt::print(err, "ecpairctl compare: give exactly two --socket (usage: {})\n", usage);
         return kExitUsage;
     }
-    std::array<std::map<std::uint64_t, std::pair<std::uint32_t, std::uint32_t>>, 2> histories;
+    std::array<control::ImageHistoryReply, 2> histories;
     for (std::size_t i = 0; i < 2; ++i) {
         control::Request request;
         request.mutable_image_history();
         auto response = call_daemon(sockets.sockets[i], request, err);
         if (!response) return response.error();
-        // Only SAFEOP and OP carry outputs on the wire: before, nothing can be mirrored.
-        for (const auto& e : response->image_history().entries()) {
-            if (e.master_state() == "SAFEOP" || e.master_state() == "OP") {
-                histories[i][e.cycle()] = {e.inputs_crc(), e.outputs_crc()};
-            }
-        }
+        histories[i] = response->image_history();
     }
-    std::size_t common = 0;
-    std::size_t differ = 0;
-    for (const auto& [cycle, crcs] : histories[0]) {
-        const auto it = histories[1].find(cycle);
-        if (it == histories[1].end()) continue;
-        ++common;
-        if (it->second != crcs) ++differ;
-    }
-    fmt::print(out, "{} cycles recorded by both: {} with equal inputs and outputs, {} differ\n", common, common - differ,
-               differ);
-    return common > 0 && differ == 0 ? kExitOk : kExitRefused;
+    const auto comparison = control::compare_image_histories(histories[0], histories[1]);
+    fmt::print(out, "{}\n", comparison.describe());
+    return comparison.mirrored() ? kExitOk : kExitRefused;
 }
 
 }  // namespace ecpair::ctl

@@ -186,14 +186,20 @@ void Daemon::pump_events() {
 void Daemon::watch_links() {
     link_fd_->async_wait(boost::asio::posix::stream_descriptor::wait_read, [this](const boost::system::error_code& ec) {
         if (ec) return;
-        for (const auto& change : link_monitor_->read_changes()) {
-            const auto role = change.interface == settings_.main_interface ? master::LinkRole::Main : master::LinkRole::Red;
+        const auto changes = link_monitor_->read_changes();
+        const auto role_of = [this](const link::LinkStateChange& change) {
+            return change.interface == settings_.main_interface ? master::LinkRole::Main : master::LinkRole::Red;
+        };
+        // What the supervisor reads first, for every change read together:
+        // both links going down at once (a link guard) must be one loss at
+        // the next cycle boundary, not MAIN down with RED up for the cycles
+        // the slower part below takes; that looks like a partner failure
+        // (a link loss shortens the comm timeout) and would take over.
+        for (const auto& change : changes) master_->set_link_state(role_of(change), change.up);
+        for (const auto& change : changes) {
+            const auto role = role_of(change);
             log()->info("link {} ({}) {}", master::to_string(role), change.interface, change.up ? "up" : "down");
-            if (redundancy_) {
-                redundancy_->set_link_state(role, change.up);
-            } else {
-                master_->set_link_state(role, change.up);
-            }
+            if (redundancy_) redundancy_->set_link_state(role, change.up);  // store-and-forward, the kernel program
         }
         watch_links();
     });

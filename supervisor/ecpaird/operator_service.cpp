@@ -235,6 +235,7 @@ control::ImageHistoryReply OperatorService::image_history(const control::ImageHi
         e->set_inputs_crc(records[i].inputs_crc);
         e->set_outputs_crc(records[i].outputs_crc);
         e->set_master_state(std::string(eni::to_string(records[i].master_state)));
+        e->set_mirrored(records[i].mirrored);
     }
     return reply;
 }

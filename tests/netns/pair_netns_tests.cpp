@@ -14,6 +14,7 @@
 
 #include <catch2/catch.hpp>
 
+#include "ecpair/control/image_history_comparison.hpp"
 #include "ecpair/link/pcap_link.hpp"
 #include "ecpair/wire/frame.hpp"
 #include "ecpair/wire/source_mac.hpp"
@@ -31,6 +32,16 @@ namespace {
 
 const std::filesystem::path kEni = std::string(ECPAIR_TEST_ENI_DIR "/twincat_kpierczy_5slaves.xml");
 
+// The members' cycle. Under TSan the members and ecsim (instrumented too)
+// cannot bring a 1 ms cycle's frames back in time on two cores: most cycles
+// would be incomplete and the ACTIVE would rarely hear its partner's answers.
+// The TSan stage looks for races, the main stage checks the timing.
+#if defined(__SANITIZE_THREAD__)
+constexpr int kCycleUs = 4000;
+#else
+constexpr int kCycleUs = 1000;
+#endif
+
 EcpairdSettings member(const std::string& name, const std::string& initial, const TempDir& dir,
                        const std::filesystem::path& eni = kEni, const std::string& extra = "") {
     EcpairdSettings s;
@@ -39,8 +50,8 @@ EcpairdSettings member(const std::string& name, const std::string& initial, cons
     s.red_if = name + "-red";
     s.eni = eni;
     s.dir = dir.path();
-    s.extra_config = "cycle_time_us: 1000\nredundancy { enabled: true initial_state: " + initial +
-                     " master_pd_out_size: 8 master_pd_in_size: 8 }\n" + extra;
+    s.extra_config = "cycle_time_us: " + std::to_string(kCycleUs) + "\nredundancy { enabled: true initial_state: " +
+                     initial + " master_pd_out_size: 8 master_pd_in_size: 8 }\n" + extra;
     return s;
 }
 
@@ -80,33 +91,14 @@ struct Pair {
         if (!m1_op || !m2_mirrors) FAIL("m1:\n" << m1.log() << "\nm2:\n" << m2.log());
     }
 
-    // Compares the image histories: every cycle both recorded must agree.
-    // Only SAFEOP and OP count: before them no cyclic frame carries outputs,
-    // so what an application writes there exists in the ACTIVE alone.
-    ecpair::control::ImageHistoryReply check_mirror(std::size_t at_least) const {
-        const auto reference = m1.image_history();
-        const auto mirror = m2.image_history();
-        std::map<std::uint64_t, std::pair<std::uint32_t, std::uint32_t>> active;
-        for (const auto& e : reference.entries()) {
-            if (e.master_state() == "SAFEOP" || e.master_state() == "OP") active[e.cycle()] = {e.inputs_crc(), e.outputs_crc()};
-        }
-        std::size_t common = 0;
-        std::size_t differ = 0;
-        std::ostringstream first;  // the first differences, to say which half differs
-        for (const auto& e : mirror.entries()) {
-            const auto it = active.find(e.cycle());
-            if (it == active.end()) continue;
-            ++common;
-            if (it->second == std::make_pair(e.inputs_crc(), e.outputs_crc())) continue;
-            if (++differ <= 5) {
-                first << "cycle " << e.cycle() << ": inputs " << (it->second.first == e.inputs_crc() ? "same" : "DIFFER")
-                      << ", outputs " << (it->second.second == e.outputs_crc() ? "same" : "DIFFER") << "\n";
-            }
-        }
-        INFO("cycles in both histories: " << common << "\n" << first.str());
-        CHECK(common >= at_least);
-        CHECK(differ == 0);
-        return mirror;
+    // Compares the image histories: every cycle m1 recorded as the ACTIVE
+    // and m2 as its mirror must agree, and no cycle may have been sent by both.
+    void check_mirror(std::size_t at_least) const {
+        const auto comparison = ecpair::control::compare_image_histories(m1.image_history(), m2.image_history());
+        INFO(comparison.describe() << "\nm2's events:\n" << m2_events.dump());
+        CHECK(comparison.common_cycles >= at_least);
+        CHECK(comparison.differ.empty());
+        CHECK(comparison.both_active.empty());
     }
 
     TempDir dir{"ecpair-pair"};
@@ -139,6 +131,8 @@ TEST_CASE("the INACTIVE mirrors the ACTIVE's image every cycle and master PD goe
     REQUIRE(pair.m1.wait_for([in_op_from](const StatusReply& s) { return s.timing().cycles() > in_op_from + 2000; }, 20s));
 
     pair.check_mirror(1000);
+    // m2 stood by all along (a takeover here would be a false failover).
+    for (const auto& event : pair.m2_events.events()) CHECK(event.kind() != "takeover");
 
     const auto m1 = pair.m1.status();
     const auto m2 = pair.m2.status();

@@ -164,6 +164,22 @@ TEST_CASE("a link of ours going down shortens the wait when no CMF arrives on th
     CHECK(timeout->d == 1);
 }
 
+TEST_CASE("our own link guard takes MAIN and RED down: isolated within the confirm window, no takeover",
+          "[supervisor]") {
+    // The guard takes both links down when this member's cycle hung; the
+    // daemon reports the two losses a cycle apart at worst. The shortened wait
+    // must not call the partner failed before the second loss is seen.
+    auto owner = standing_by();
+    auto& h = *owner;
+    h.seen.main_link_up = false;
+    h.cycle();
+    h.seen.red_link_up = false;
+    h.cycles(500);
+    CHECK_FALSE(h.active());
+    CHECK(h.state() == SupervisorState::Isolated);
+    CHECK_FALSE(h.raised(EventKind::Takeover));
+}
+
 TEST_CASE("a pulled master-master cable takes a link down but the CMF still arrives: no takeover",
           "[supervisor]") {
     auto owner = standing_by();

@@ -29,6 +29,26 @@ std::string with_forwarding_from_environment(std::string config) {
     return config;
 }
 
+// Under TSan the daemons' threads stall for tens of milliseconds (the
+// instrumentation, not the code under test). The link guard's 50 ms would
+// take a stalled member's links down, a 50 ms comm timeout would fail over
+// from a stalled ACTIVE and 100 ms of partner silence would call the
+// partner lost, in tests that check something else: TSan builds give them
+// ten times as long (the main stage checks the timing).
+std::string with_sanitizer_allowances(std::string config) {
+#if defined(__SANITIZE_THREAD__)
+    if (config.find("link_guard {") == std::string::npos) config += "link_guard { hang_timeout_ms: 500 }\n";
+    const std::string block = "redundancy {";
+    const auto at = config.find(block);
+    if (at == std::string::npos) return config;
+    for (const char* field : {"comm_timeout_ms: 500", "partner_silence_ms: 1000"}) {
+        const std::string name = std::string(field).substr(0, std::string(field).find(':'));
+        if (config.find(name) == std::string::npos) config.insert(at + block.size(), std::string(" ") + field + " ");
+    }
+#endif
+    return config;
+}
+
 }  // namespace
 
 EcpairdProcess::EcpairdProcess(const TestNamespace& ns, EcpairdSettings settings) : settings_(std::move(settings)) {
@@ -45,7 +65,7 @@ EcpairdProcess::EcpairdProcess(const TestNamespace& ns, EcpairdSettings settings
             << "control { path: \"" << socket().string() << "\" " << settings_.control_extra << " }\n"
             << "log_level: \"debug\"\n"
             << settings_.extra_config << "\n";
-        std::ofstream(config()) << with_forwarding_from_environment(out.str());
+        std::ofstream(config()) << with_sanitizer_allowances(with_forwarding_from_environment(out.str()));
     }
     std::filesystem::remove(socket());
     process_.emplace(std::vector<std::string>{ecpaird_binary(), "--config", config().string()},

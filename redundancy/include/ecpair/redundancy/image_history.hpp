@@ -1,9 +1,10 @@
 #pragma once
 // A record of the last N process images, by their checksums: for every cycle
 // the ACTIVE's cycle counter, the CRC-32 of the inputs and of the outputs,
-// and the master state. The ACTIVE records its image, the INACTIVE the image
-// it mirrored under the ACTIVE's cycle number; comparing the two histories
-// proves (or disproves) that the mirror equalled the image every cycle.
+// the master state, and whether the record is the ACTIVE's own image or the
+// INACTIVE's mirror of it (under the ACTIVE's cycle number). Comparing two
+// members' histories (control/image_history_comparison.hpp) proves or
+// disproves that the mirror equalled the image every cycle.
 //
 // Thread-safe: record() (cycle thread) and snapshot() (any thread) take a
 // short lock; the checksums are computed before it is taken. The ring is
@@ -12,8 +13,6 @@
 #include <cstddef>
 #include <cstdint>
 #include <mutex>
-#include <optional>
-#include <span>
 #include <vector>
 
 #include "ecpair/common/bytes.hpp"
@@ -26,6 +25,7 @@ struct ImageRecord {
     std::uint32_t inputs_crc = 0;
     std::uint32_t outputs_crc = 0;
     eni::SlaveState master_state = eni::SlaveState::Init;
+    bool mirrored = false;  // the INACTIVE's mirror; false: the ACTIVE's own image
 
     friend bool operator==(const ImageRecord&, const ImageRecord&) = default;
 };
@@ -39,7 +39,8 @@ public:
 
     void record(const ImageRecord& entry);
     // Checksums the image and records it.
-    void record(std::uint64_t cycle, ConstBytes inputs, ConstBytes outputs, eni::SlaveState master_state);
+    void record(std::uint64_t cycle, ConstBytes inputs, ConstBytes outputs, eni::SlaveState master_state,
+                bool mirrored);
 
     // The records held, oldest first (at most capacity()).
     std::vector<ImageRecord> snapshot() const;
@@ -51,15 +52,5 @@ private:
     std::size_t next_ = 0;   // where the next record goes
     std::size_t count_ = 0;  // records held
 };
-
-// How a mirror's history compares with the reference it should equal,
-// cycle by cycle, over the cycles both hold.
-struct HistoryComparison {
-    std::size_t common_cycles = 0;  // cycles present in both
-    std::size_t mismatches = 0;     // of those, records that differ
-    std::optional<ImageRecord> first_reference_mismatch;  // the earliest differing pair, if any
-    std::optional<ImageRecord> first_mirror_mismatch;
-};
-HistoryComparison compare_histories(std::span<const ImageRecord> reference, std::span<const ImageRecord> mirror);
 
 }  // namespace ecpair::redundancy
