@@ -105,13 +105,13 @@ stage_tsan() {
   local reports
   reports=$(mktemp -d /tmp/ecpair-tsan.XXXXXX)
   # Every process (the tests and the ecpaird/ecsim they start) writes its
-  # reports to $reports/tsan.<pid>; any report fails the stage.
-  export TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1 log_path=$reports/tsan suppressions=$(pwd)/deploy/tsan.supp"
+  # reports to $reports/tsan-report.<pid>; any report fails the stage.
+  export TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1 log_path=$reports/tsan-report suppressions=$(pwd)/deploy/tsan.supp"
   local status=0
   # Two unit test binaries at a time (one per core); each logs to its own file.
   echo "   unit tests: ${tsan_unit_tests[*]}"
   printf '%s\n' "${tsan_unit_tests[@]}" |
-    xargs -P2 -I{} bash -c 'log="$1/$(basename "$2").log"
+    xargs -P2 -I{} bash -c 'log="$1/$(basename "$3").log"
                             "${@:4}" "build-tsan/tests/$3" >"$log" 2>&1 ||
                               { echo "   FAILED: $3"; echo "$3" >>"$2"; tail -30 "$log"; exit 1; }' \
       _ "$reports" "$failures/tsan" {} "${run[@]}" || status=1
@@ -130,9 +130,9 @@ stage_tsan() {
   tsan_case netns/pair_netns_tests "the INACTIVE mirrors the ACTIVE's image every cycle and master PD goes both ways"
   tsan_case tap_bridge/tap_bridge_netns_tests 'IP between the masters: ping both ways\, TCP with checksums\, the TAP sees only IP'
   unset TSAN_OPTIONS
-  if compgen -G "$reports/tsan.*" >/dev/null; then
-    cat "$reports"/tsan.* >&2
-    echo "TSan reports: $(grep -h -m1 '^WARNING: ThreadSanitizer' "$reports"/tsan.* | sort | uniq -c | tr -s ' ' | paste -sd ';')" \
+  if compgen -G "$reports/tsan-report.*" >/dev/null; then
+    cat "$reports"/tsan-report.* >&2
+    echo "TSan reports: $(grep -h -m1 '^WARNING: ThreadSanitizer' "$reports"/tsan-report.* | sort | uniq -c | tr -s ' ' | paste -sd ';')" \
       >>"$failures/tsan"
     status=1
   fi
