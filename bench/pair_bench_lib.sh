@@ -6,6 +6,8 @@
 #   bin     the build tree                      eni   the ENI both members load
 #   ctl     ecpairctl
 # and m1, m2, sim holding the pids the script started (cleanup stops them).
+# PAIR_M1_CPUS / PAIR_M2_CPUS, when set, pin a member to those CPUs
+# (taskset -c): two controllers on one machine, each on a core of its own.
 
 pair_bench_cleanup() {
   for pid in ${m1:-} ${m2:-} ${sim:-}; do kill "$pid" 2>/dev/null && wait "$pid" 2>/dev/null || true; done
@@ -15,7 +17,11 @@ pair_bench_cleanup() {
 
 pair_bench_member() {  # name initial-state   (the pid is in $!)
   pair_member_config "$1" "$2" "$eni" "$work" "demo { kind: WALKING_BIT }" 'log_level: "warn"' >"$work/$1.textproto"
-  ip netns exec "$prefix-$1" "$bin/supervisor/ecpaird/ecpaird" --config "$work/$1.textproto" >"$work/$1.log" 2>&1 &
+  local cpus_var="PAIR_${1^^}_CPUS"
+  local pin=()
+  [ -n "${!cpus_var:-}" ] && pin=(taskset -c "${!cpus_var}")
+  ip netns exec "$prefix-$1" "${pin[@]}" "$bin/supervisor/ecpaird/ecpaird" --config "$work/$1.textproto" \
+    >"$work/$1.log" 2>&1 &
 }
 
 pair_bench_wait_for() {  # socket pattern   (30 s; the members' logs when it times out)

@@ -10,7 +10,8 @@
 # missing.
 #
 #   bash bench/pair_cycle_bench.sh [CYCLE_US] [SECONDS] [FORWARDING]   (defaults: 1000 20 AUTO)
-# Needs root and a build in ./build (or ECPAIR_BUILD_DIR).
+# Needs root and a build in ./build (or ECPAIR_BUILD_DIR). ECSIM_PRIORITY:
+# ecsim's SCHED_FIFO priority (default 70, below the masters' 78-80).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source deploy/lib/topology.sh
@@ -31,7 +32,7 @@ trap pair_bench_cleanup EXIT
 
 topology_up "$prefix" pair
 ip netns exec "$prefix-sim" "$bin/sim/segment/ecsim" --eni "$eni" --main-if sim-main --red-if sim-red \
-  --control "$work/ecsim.sock" --pcap "$work/segment.pcap" --realtime-priority 70 --log-level warn >"$work/ecsim.log" 2>&1 &
+  --control "$work/ecsim.sock" --pcap "$work/segment.pcap" --realtime-priority "${ECSIM_PRIORITY:-70}" --log-level warn >"$work/ecsim.log" 2>&1 &
 sim=$!
 for _ in $(seq 100); do [ -S "$work/ecsim.sock" ] && break; sleep 0.1; done
 pair_bench_member m1 ACTIVE; m1=$!

@@ -16,7 +16,7 @@ print_cycle_figures() {
   grep -oE 'cycles [0-9]+ \([^)]*\)' <<<"$end_status" | sed 's/^/  whole run:        /'
   echo "  frames sent:      $(status_delta 'frames sent')"
   echo "  frames lost:      $(status_delta 'lost')   (not complete when the next cycle started)"
-  echo "  late copies:      $(status_delta 'late copies')"
+  echo "  late copies:      $(status_delta 'late copies')   (on MAIN $(status_delta 'on MAIN'), on RED $(status_delta 'on RED'))"
   echo "  incomplete cycles: $(status_delta 'incomplete cycles')"
   echo "  WKC errors:       $(status_delta 'WKC errors')"
 }

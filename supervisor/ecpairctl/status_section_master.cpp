@@ -64,9 +64,11 @@ void cycles_table(std::ostream& out, const control::StatusReply& s) {
                t.cycles(), t.late(), t.skipped(), t.wake_latency_p50_us(), t.wake_latency_p99_us(),
                t.wake_latency_max_us(), t.realtime() ? ", SCHED_FIFO" : "");
     const auto& c = s.counters();
-    fmt::print(out, "  frames sent {}, lost {}, late copies {}, incomplete cycles {}, WKC errors {}, foreign {}\n",
-               c.frames_sent(), c.frames_lost(), c.late_copies(), c.cycles_incomplete(), c.wkc_errors(),
-               c.foreign_frames());
+    fmt::print(out,
+               "  frames sent {}, lost {}, late copies {} (on MAIN {}, on RED {}), incomplete cycles {}, WKC errors {}, "
+               "foreign {}\n",
+               c.frames_sent(), c.frames_lost(), c.late_copies(), c.late_copies() - c.late_copies_on_red(),
+               c.late_copies_on_red(), c.cycles_incomplete(), c.wkc_errors(), c.foreign_frames());
 }
 
 void cycles_json(JsonWriter& json, const control::StatusReply& s) {
@@ -80,6 +82,7 @@ void cycles_json(JsonWriter& json, const control::StatusReply& s) {
     const auto& c = s.counters();
     json.key("frames").begin_object();
     json.key("sent").value(c.frames_sent()).key("lost").value(c.frames_lost()).key("late_copies").value(c.late_copies());
+    json.key("late_copies_on_red").value(c.late_copies_on_red());
     json.key("incomplete_cycles").value(c.cycles_incomplete()).key("wkc_errors").value(c.wkc_errors());
     json.key("foreign").value(c.foreign_frames()).key("send_errors").value(c.send_errors()).end_object();
 }

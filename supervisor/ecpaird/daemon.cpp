@@ -370,10 +370,11 @@ int Daemon::run() {
     stop_threads();
     if (link_guard_) link_guard_->shutdown();  // stopped sending: now the links go down
     log()->info("{} cycles ({} late, {} skipped, wake-up latency p99 {} µs, max {} µs), {} frames sent, {} lost, "
-                "{} late copies, {} incomplete cycles, {} WKC errors",
+                "{} late copies ({} on RED), {} incomplete cycles, {} WKC errors",
                 timing.cycles, timing.late, timing.skipped, timing.latency_percentile_us(99.0),
                 std::chrono::duration_cast<std::chrono::microseconds>(timing.max_wake_latency).count(),
-                stats.frames_sent, stats.frames_lost, stats.late_frames, stats.cycles_incomplete, stats.wkc_errors);
+                stats.frames_sent, stats.frames_lost, stats.late_frames, stats.late_frames_on_red,
+                stats.cycles_incomplete, stats.wkc_errors);
     if (settings_.demo == config::DemoKind::LoopbackCheck) {
         const auto loop = demo_->stats();
         log()->info("loopback check: {} cycles in OP checked, {} slave checks, {} mismatches", loop.cycles_checked,

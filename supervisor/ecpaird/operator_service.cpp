@@ -56,6 +56,7 @@ control::StatusReply OperatorService::status(const control::StatusRequest& reque
     c->set_frames_sent(stats.frames_sent);
     c->set_frames_lost(stats.frames_lost);
     c->set_late_copies(stats.late_frames);
+    c->set_late_copies_on_red(stats.late_frames_on_red);
     c->set_cycles_incomplete(stats.cycles_incomplete);
     c->set_wkc_errors(stats.wkc_errors);
     c->set_foreign_frames(stats.foreign_frames);

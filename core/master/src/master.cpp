@@ -152,6 +152,7 @@ MasterStats Master::stats() const {
     s.wkc_topology_deviations = stats_.wkc_topology_deviations.load();
     s.foreign_frames = stats_.foreign_frames.load();
     s.late_frames = stats_.late_frames.load();
+    s.late_frames_on_red = stats_.late_frames_on_red.load();
     s.send_errors = stats_.send_errors.load();
     s.rx_dropped = rx_rings_[0].dropped() + rx_rings_[1].dropped();
     return s;
@@ -235,7 +236,10 @@ void Master::receive_from_links() {
 
 void Master::accept_copy(LinkRole role, ConstBytes frame) {
     const auto outcome = tracker_.accept(role, frame);
-    if (outcome == AcceptOutcome::Stale) stats_.late_frames.fetch_add(1, std::memory_order_relaxed);
+    if (outcome == AcceptOutcome::Stale) {
+        stats_.late_frames.fetch_add(1, std::memory_order_relaxed);
+        if (role == LinkRole::Red) stats_.late_frames_on_red.fetch_add(1, std::memory_order_relaxed);
+    }
     if (outcome != AcceptOutcome::Foreign) return;
     stats_.foreign_frames.fetch_add(1, std::memory_order_relaxed);
     if (extension_) extension_->foreign_frame(role, frame);

@@ -74,6 +74,7 @@ struct MasterStats {
     std::uint64_t frames_sent = 0;
     std::uint64_t frames_lost = 0;        // not complete when the next cycle started
     std::uint64_t late_frames = 0;        // copies that came back after their cycle was completed
+    std::uint64_t late_frames_on_red = 0;  // of those, the ones that arrived on RED (the rest on MAIN)
     std::uint64_t cycles_incomplete = 0;  // some cyclic data of the cycle is missing
     std::uint64_t wkc_errors = 0;
     std::uint64_t wkc_topology_deviations = 0;  // WKC deviations while the topology changed (Hot-Connect)
@@ -237,7 +238,7 @@ private:
     std::atomic<std::uint64_t> cycles_without_return_{0};
     struct AtomicStats {
         std::atomic<std::uint64_t> cycles{0}, frames_sent{0}, frames_lost{0}, cycles_incomplete{0}, wkc_errors{0},
-            foreign_frames{0}, send_errors{0}, late_frames{0}, wkc_topology_deviations{0};
+            foreign_frames{0}, send_errors{0}, late_frames{0}, late_frames_on_red{0}, wkc_topology_deviations{0};
     } stats_;
 };
 
