@@ -20,12 +20,17 @@ constexpr std::chrono::seconds kStartGuard{10};
 // ECPAIR_TEST_FORWARDING=KERNEL|USER|AUTO runs a pair's members on that
 // store-and-forward path (redundancy.forwarding): the second ctest
 // registration of the pair and failover suites sets it (tests/netns/CMakeLists.txt).
+// `field` inside the configuration's redundancy block, when it has one.
+void add_to_redundancy_block(std::string& config, const std::string& field) {
+    const std::string block = "redundancy {";
+    const auto at = config.find(block);
+    if (at != std::string::npos) config.insert(at + block.size(), " " + field + " ");
+}
+
 std::string with_forwarding_from_environment(std::string config) {
     const char* path = std::getenv("ECPAIR_TEST_FORWARDING");
     if (path == nullptr || *path == '\0') return config;
-    const std::string block = "redundancy {";
-    const auto at = config.find(block);
-    if (at != std::string::npos) config.insert(at + block.size(), fmt::format(" forwarding: {} ", path));
+    add_to_redundancy_block(config, fmt::format("forwarding: {}", path));
     return config;
 }
 
@@ -38,12 +43,9 @@ std::string with_forwarding_from_environment(std::string config) {
 std::string with_sanitizer_allowances(std::string config) {
 #if defined(__SANITIZE_THREAD__)
     if (config.find("link_guard {") == std::string::npos) config += "link_guard { hang_timeout_ms: 500 }\n";
-    const std::string block = "redundancy {";
-    const auto at = config.find(block);
-    if (at == std::string::npos) return config;
-    for (const char* field : {"comm_timeout_ms: 500", "partner_silence_ms: 1000"}) {
-        const std::string name = std::string(field).substr(0, std::string(field).find(':'));
-        if (config.find(name) == std::string::npos) config.insert(at + block.size(), std::string(" ") + field + " ");
+    if (config.find("comm_timeout_ms") == std::string::npos) add_to_redundancy_block(config, "comm_timeout_ms: 500");
+    if (config.find("partner_silence_ms") == std::string::npos) {
+        add_to_redundancy_block(config, "partner_silence_ms: 1000");
     }
 #endif
     return config;
