@@ -49,7 +49,14 @@ failed=0
 failures=$(mktemp -d /tmp/ecpair-test-failures.XXXXXX)
 trap 'rm -rf "$failures"' EXIT
 
-# ctest in a build tree; the names of the tests that failed go to the stage's list.
+# The failed assertions in a test log (Catch's "file:line: FAILED:" and the
+# expression with its expansion), for the stage's list.
+failed_assertions() {
+  grep -h -A4 -E ':[0-9]+: FAILED:' "$@" 2>/dev/null | grep -v '^--$' | head -40 | sed 's/^/    /' || true
+}
+
+# ctest in a build tree; the names of the tests that failed and their failed
+# assertions go to the stage's list.
 run_ctest() {
   local dir=$1
   shift
@@ -58,6 +65,7 @@ run_ctest() {
   ctest --test-dir "$dir" --output-on-failure -j2 "$@" || status=$?
   if [ "$status" -ne 0 ] && [ -f "$dir/Testing/Temporary/LastTestsFailed.log" ]; then
     sed 's/^[0-9]*://' "$dir/Testing/Temporary/LastTestsFailed.log" >>"$failures/$stage"
+    failed_assertions "$dir/Testing/Temporary/LastTest.log" >>"$failures/$stage"
   fi
   return "$status"
 }
@@ -121,7 +129,10 @@ stage_tsan() {
   # argument, comma-separated); --warn NoTests fails a binary whose names
   # matched nothing, so no case is skipped silently.
   tsan_case() {  # binary, case name
-    "${run[@]}" "build-tsan/tests/$1" --warn NoTests "$2" || { echo "$1: $2" >>"$failures/tsan"; status=1; }
+    local log
+    log="$reports/$(basename "$1").case.log"
+    "${run[@]}" "build-tsan/tests/$1" --warn NoTests "$2" 2>&1 | tee "$log" ||
+      { echo "$1: $2" >>"$failures/tsan"; failed_assertions "$log" >>"$failures/tsan"; status=1; }
   }
   tsan_case netns/master_netns_tests "ecpaird brings a generated segment to OP with cable redundancy and data flows both ways"
   # The takeover case is not run here: under TSan the members' cycles stall

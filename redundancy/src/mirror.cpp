@@ -24,10 +24,11 @@ Mirror::Mirror(const CmfPlan& plan, const master::CyclicPlan& cyclic, std::size_
     for (const auto& frame : cyclic.frames) {
         for (const auto& d : frame.datagrams) {
             if (d.output_offset && *d.output_offset + d.length <= output_size) {
-                slices_.push_back({d.command, d.address, d.length, *d.output_offset});
+                slices_.push_back({d.command, d.address, d.length, *d.output_offset, d.states});
             }
         }
     }
+    for (auto& link : links_) link.written.assign(slices_.size(), false);
     latest_.inputs.assign(input_size, 0);
     latest_.outputs.assign(output_size, 0);
     latest_.slaves.resize(plan.layout().slave_count);
@@ -38,6 +39,11 @@ void Mirror::on_first_pass(master::LinkRole arrived_on, ConstBytes frame) {
     auto view = wire::ConstFrameView::parse(frame);
     if (!view) return;
     PerLink& link = links_[index(arrived_on)];
+    if (const auto generation = generation_.load(std::memory_order_acquire); link.generation != generation) {
+        // Mirroring (re)started: an output frame this link saw before belongs to no cycle to come.
+        std::fill(link.written.begin(), link.written.end(), false);
+        link.generation = generation;
+    }
     for (const auto d : *view) {
         if (is_cmf_datagram(d)) {
             auto outcome = link.assembler.feed(d);
@@ -58,13 +64,23 @@ void Mirror::on_first_pass(master::LinkRole arrived_on, ConstBytes frame) {
         });
         if (slice != slices_.end()) {
             std::copy(d.data().begin(), d.data().end(), link.outputs.begin() + slice->offset);
+            link.written[static_cast<std::size_t>(slice - slices_.begin())] = true;
         }
     }
 }
 
+bool Mirror::wrote_every_slice(const PerLink& link, eni::SlaveState state) const {
+    for (std::size_t i = 0; i < slices_.size(); ++i) {
+        if (slices_[i].states.contains(state) && !link.written[i]) return false;
+    }
+    return true;
+}
+
 void Mirror::publish(master::LinkRole arrived_on) {
-    const PerLink& link = links_[index(arrived_on)];
+    PerLink& link = links_[index(arrived_on)];
     const CmfContent& content = link.assembler.content();
+    const bool outputs_of_this_cycle = wrote_every_slice(link, content.master_state);
+    std::fill(link.written.begin(), link.written.end(), false);
     const auto bit = static_cast<std::uint8_t>(1u << index(arrived_on));
     std::lock_guard lock(mutex_);
     last_completed_ = std::chrono::steady_clock::now();
@@ -76,23 +92,36 @@ void Mirror::publish(master::LinkRole arrived_on) {
     if (content.cycle == latest_.cycle && latest_.copies != 0) {
         latest_.copies |= bit;
         latest_.complete = latest_.copies == 0x3 || latest_.flags.ring_broken;
+        if (!latest_.outputs_known && outputs_of_this_cycle) {
+            // The first copy's link missed an output frame of this cycle; this one did not.
+            std::copy(link.outputs.begin(), link.outputs.end(), latest_.outputs.begin());
+            latest_.outputs_known = true;
+            history_.record(latest_.cycle, latest_.inputs, latest_.outputs, latest_.master_state, true);
+        }
         return;
     }
     // The other copy of an older cycle, late; unless the counter jumped back
     // far: then another ACTIVE counts (the partner restarted or took over).
     if (content.cycle < latest_.cycle && latest_.cycle - content.cycle <= kRestartDistance) return;
+    if (latest_.copies != 0 && !latest_.outputs_known) {
+        logger("mirror")->debug("cycle {}: neither copy brought its outputs (an output frame lost on both links), "
+                                "not recorded", latest_.cycle);
+    }
     latest_.cycle = content.cycle;
     latest_.master_state = content.master_state;
     latest_.flags = content.flags;
     const auto inputs = content.shadow_inputs;
     std::copy_n(inputs.begin(), std::min(inputs.size(), latest_.inputs.size()), latest_.inputs.begin());
-    std::copy(link.outputs.begin(), link.outputs.end(), latest_.outputs.begin());
+    if (outputs_of_this_cycle) std::copy(link.outputs.begin(), link.outputs.end(), latest_.outputs.begin());
+    latest_.outputs_known = outputs_of_this_cycle;
     std::copy(content.slaves.begin(), content.slaves.end(), latest_.slaves.begin());
     std::copy_n(content.master_pd_out.begin(), std::min(content.master_pd_out.size(), latest_.master_pd_out.size()),
                 latest_.master_pd_out.begin());
     latest_.copies = bit;
     latest_.complete = latest_.flags.ring_broken;
-    history_.record(latest_.cycle, latest_.inputs, latest_.outputs, latest_.master_state, true);
+    if (outputs_of_this_cycle) {
+        history_.record(latest_.cycle, latest_.inputs, latest_.outputs, latest_.master_state, true);
+    }
 }
 
 namespace {
@@ -129,6 +158,7 @@ void Mirror::report_mismatch(master::LinkRole arrived_on) {
 }
 
 void Mirror::reset() {
+    generation_.fetch_add(1, std::memory_order_acq_rel);
     std::lock_guard lock(mutex_);
     latest_.cycle = 0;
     latest_.copies = 0;
@@ -138,8 +168,10 @@ void Mirror::reset() {
 
 bool Mirror::take_newer(MirroredCycle& out) const {
     std::lock_guard lock(mutex_);
-    if (latest_.copies == 0 || latest_.cycle == out.cycle) return false;
+    // The same cycle again once a later copy brought the outputs the first lacked.
+    if (latest_.copies == 0 || (latest_.cycle == out.cycle && latest_.outputs_known == out.outputs_known)) return false;
     out.cycle = latest_.cycle;
+    out.outputs_known = latest_.outputs_known;
     out.master_state = latest_.master_state;
     out.flags = latest_.flags;
     out.copies = latest_.copies;

@@ -8,9 +8,14 @@
 //     that link's output image, where the cyclic plan puts them.
 // On a link, the ACTIVE's cyclic frames of a cycle come before its CMF of
 // that cycle, so when a CMF completes, the link's output image belongs to the
-// same cycle. The newest completed cycle is published (briefly locked) for
-// the cycle thread, recorded in the image history, and counted complete once
-// both copies arrived, or one when the ACTIVE reports a broken ring.
+// same cycle - if every output datagram the ACTIVE sends in the CMF's master
+// state passed on that link since its previous CMF. When one did not (its
+// frame was lost on that link, or this master started mirroring between the
+// cycle's frames and its CMF), the cycle's outputs are taken from the other
+// link's copy, and a cycle whose outputs neither copy brought is not recorded.
+// The newest completed cycle is published (briefly locked) for the cycle
+// thread, recorded in the image history, and counted complete once both
+// copies arrived, or one when the ACTIVE reports a broken ring.
 //
 // A partner whose fingerprint differs is never mirrored: the difference is
 // named once in an event and in mismatch().
@@ -42,6 +47,9 @@ struct MirroredCycle {
     std::vector<std::uint8_t> master_pd_out;
     std::uint8_t copies = 0;  // bit per arrival link that completed this cycle
     bool complete = false;
+    // false: no copy so far brought this cycle's outputs; `outputs` are an
+    // older cycle's (the newest known), and the cycle is not recorded yet.
+    bool outputs_known = false;
 };
 
 class Mirror {
@@ -54,11 +62,12 @@ public:
 
     // ---- cycle thread
     // Copies the newest published cycle into `out` when it is newer than
-    // `out.cycle`; false when there is nothing new.
+    // `out.cycle` (or is that cycle, now with its outputs); false when there
+    // is nothing new.
     bool take_newer(MirroredCycle& out) const;
 
-    // Forgets the published cycle: the next ACTIVE may count cycles from
-    // anywhere (a role change).
+    // Forgets the published cycle (the next ACTIVE may count cycles from
+    // anywhere: a role change) and the output frames the links saw so far.
     void reset();
 
     // ---- any thread
@@ -75,18 +84,24 @@ private:
         std::uint32_t address;
         std::uint16_t length;
         std::uint32_t offset;
+        eni::StateSet states;  // the master states the ACTIVE sends it in
     };
     struct PerLink {
-        explicit PerLink(const CmfPlan& plan, std::size_t output_size) : assembler(plan), outputs(output_size, 0) {}
+        PerLink(const CmfPlan& plan, std::size_t output_size) : assembler(plan), outputs(output_size, 0) {}
         CmfAssembler assembler;
         std::vector<std::uint8_t> outputs;
+        std::vector<bool> written;  // per slice: passed since this link's last completed CMF
+        std::uint64_t generation = 0;  // the reset() `written` belongs to
     };
 
+    // Whether `link` saw every slice the ACTIVE sends in `state` since its last completed CMF.
+    bool wrote_every_slice(const PerLink& link, eni::SlaveState state) const;
     void publish(master::LinkRole link);
     void report_mismatch(master::LinkRole link);
 
     std::vector<OutputSlice> slices_;
-    std::array<PerLink, 2> links_;
+    std::array<PerLink, 2> links_;  // each touched by its link's receive thread only
+    std::atomic<std::uint64_t> generation_{0};  // counts reset()s
     master::EventQueue& events_;
     ImageHistory& history_;
 

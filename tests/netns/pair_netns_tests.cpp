@@ -32,16 +32,6 @@ namespace {
 
 const std::filesystem::path kEni = std::string(ECPAIR_TEST_ENI_DIR "/twincat_kpierczy_5slaves.xml");
 
-// The members' cycle. Under TSan the members and ecsim (instrumented too)
-// cannot bring a 1 ms cycle's frames back in time on two cores: most cycles
-// would be incomplete and the ACTIVE would rarely hear its partner's answers.
-// The TSan stage looks for races, the main stage checks the timing.
-#if defined(__SANITIZE_THREAD__)
-constexpr int kCycleUs = 4000;
-#else
-constexpr int kCycleUs = 1000;
-#endif
-
 EcpairdSettings member(const std::string& name, const std::string& initial, const TempDir& dir,
                        const std::filesystem::path& eni = kEni, const std::string& extra = "") {
     EcpairdSettings s;
@@ -50,7 +40,7 @@ EcpairdSettings member(const std::string& name, const std::string& initial, cons
     s.red_if = name + "-red";
     s.eni = eni;
     s.dir = dir.path();
-    s.extra_config = "cycle_time_us: " + std::to_string(kCycleUs) + "\nredundancy { enabled: true initial_state: " +
+    s.extra_config = "cycle_time_us: " + std::to_string(kPairCycleUs) + "\nredundancy { enabled: true initial_state: " +
                      initial + " master_pd_out_size: 8 master_pd_in_size: 8 }\n" + extra;
     return s;
 }

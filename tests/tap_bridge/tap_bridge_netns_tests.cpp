@@ -62,7 +62,7 @@ EcpairdSettings member(const std::string& name, const std::string& initial, cons
     s.eni = kEni;
     s.dir = dir.path();
     s.demo = "NONE";
-    s.extra_config = "cycle_time_us: 1000\nmax_acyclic_frames_per_cycle: 4\n"
+    s.extra_config = "cycle_time_us: " + std::to_string(kPairCycleUs) + "\nmax_acyclic_frames_per_cycle: 4\n"
                      "redundancy { enabled: true initial_state: " + initial + " " + redundancy_extra + " }\n"
                      "tap { name: \"ecpair0\" address: \"" + address + "/24\" address: \"" + ipv6_of(address) +
                      "/64\" }\n";
@@ -121,36 +121,55 @@ void capture_while(const TestNamespace& ns, const std::string& tshark_command, T
     capturing.join();
 }
 
-// The EtherTypes of the first `count` frames that pass `interface` of `ns`
-// either way (a packet socket of our own, no tshark), calling `traffic`
-// until they are in (bounded: 20 s).
-template <class Traffic>
-std::vector<std::uint16_t> ether_types_on(const TestNamespace& ns, const std::string& interface, std::size_t count,
-                                          Traffic&& traffic) {
-    int fd = -1;
-    {
+// Every frame that passes `interface` of `ns` either way, from construction
+// on (a packet socket of our own, no tshark).
+class InterfaceCapture {
+public:
+    InterfaceCapture(const TestNamespace& ns, const std::string& interface) {
         NamespaceScope inside(ns);
         // Protocol 0 until bound: a socket opened with ETH_P_ALL receives every
         // interface's frames (the EtherCAT links' too) until bind() narrows it.
-        fd = ::socket(AF_PACKET, SOCK_RAW | SOCK_CLOEXEC, 0);
-        REQUIRE(fd >= 0);
+        fd_ = ::socket(AF_PACKET, SOCK_RAW | SOCK_CLOEXEC, 0);
+        REQUIRE(fd_ >= 0);
         sockaddr_ll where{};
         where.sll_family = AF_PACKET;
         where.sll_protocol = htons(ETH_P_ALL);
         where.sll_ifindex = static_cast<int>(::if_nametoindex(interface.c_str()));
         REQUIRE(where.sll_ifindex != 0);
-        REQUIRE(::bind(fd, reinterpret_cast<const sockaddr*>(&where), sizeof where) == 0);
+        REQUIRE(::bind(fd_, reinterpret_cast<const sockaddr*>(&where), sizeof where) == 0);
     }
+    InterfaceCapture(const InterfaceCapture&) = delete;
+    InterfaceCapture& operator=(const InterfaceCapture&) = delete;
+    ~InterfaceCapture() { ::close(fd_); }
+
+    // The next frame, or nothing when none came within `timeout`.
+    std::optional<std::vector<std::uint8_t>> next(std::chrono::milliseconds timeout) {
+        pollfd p{fd_, POLLIN, 0};
+        if (::poll(&p, 1, static_cast<int>(timeout.count())) <= 0) return std::nullopt;
+        std::vector<std::uint8_t> frame(2048);
+        const auto n = ::recv(fd_, frame.data(), frame.size(), 0);
+        if (n < 0) return std::nullopt;
+        frame.resize(static_cast<std::size_t>(n));
+        return frame;
+    }
+
+private:
+    int fd_ = -1;
+};
+
+// The EtherTypes of the first `count` frames that pass `interface` of `ns`
+// either way, calling `traffic` until they are in (bounded: 20 s).
+template <class Traffic>
+std::vector<std::uint16_t> ether_types_on(const TestNamespace& ns, const std::string& interface, std::size_t count,
+                                          Traffic&& traffic) {
+    InterfaceCapture capture(ns, interface);
     std::atomic<bool> done{false};
     std::vector<std::uint16_t> types;
     std::thread reader([&] {
-        std::array<std::uint8_t, 2048> frame{};
         const auto give_up = std::chrono::steady_clock::now() + 20s;
         while (types.size() < count && std::chrono::steady_clock::now() < give_up) {
-            pollfd p{fd, POLLIN, 0};
-            if (::poll(&p, 1, 100) <= 0) continue;
-            const auto n = ::recv(fd, frame.data(), frame.size(), 0);
-            if (n >= 14) types.push_back(static_cast<std::uint16_t>((frame[12] << 8) | frame[13]));
+            const auto frame = capture.next(100ms);
+            if (frame && frame->size() >= 14) types.push_back(static_cast<std::uint16_t>(((*frame)[12] << 8) | (*frame)[13]));
         }
         done = true;
     });
@@ -159,7 +178,6 @@ std::vector<std::uint16_t> ether_types_on(const TestNamespace& ns, const std::st
         std::this_thread::sleep_for(20ms);
     }
     reader.join();
-    ::close(fd);
     return types;
 }
 
@@ -277,8 +295,9 @@ TEST_CASE("IP between the masters: ping both ways, TCP with checksums, the TAP s
     CHECK(pair.ping(pair.topology.m1(), kM2Address) == 0);
     CHECK(pair.ping(pair.topology.m2(), kM1Address) == 0);
     const auto types = ether_types_on(pair.topology.m2(), "ecpair0", 40, [&] {
-        pair.topology.m1().exec(fmt::format("ping -n -c 2 -i 0.05 {} >/dev/null 2>&1", kM2Address));
-        pair.topology.m2().exec(fmt::format("ping -n -c 2 -i 0.05 {} >/dev/null 2>&1", kM1Address));
+        // -W 1: a reply lost with a cycle's frames costs a second, not ping's ten.
+        pair.topology.m1().exec(fmt::format("ping -n -c 2 -i 0.05 -W 1 {} >/dev/null 2>&1", kM2Address));
+        pair.topology.m2().exec(fmt::format("ping -n -c 2 -i 0.05 -W 1 {} >/dev/null 2>&1", kM1Address));
     });
     CHECK(types.size() == 40);
     for (const auto type : types) {
@@ -390,19 +409,20 @@ TEST_CASE("garbled and truncated bridge datagrams from the bus are counted, neve
     BridgedPair pair;
     pair.wait_flowing();
     const auto before = pair.m2.status().tap_bridge();
-    const auto m1_before = pair.m1->status().tap_bridge();
 
     // A valid DATA datagram from a made-up partner, then broken copies of it.
-    std::vector<std::uint8_t> valid(ecpair::tap_bridge::kBridgeHeaderSize + 2 + 60, 0);
+    // The frame it carries is marked (every byte 0x5A) so that m2's TAP can be
+    // watched for it whatever else the two masters' IP stacks send meanwhile.
+    const std::vector<std::uint8_t> marked(60, 0x5A);
+    std::vector<std::uint8_t> valid(ecpair::tap_bridge::kBridgeHeaderSize + 2 + marked.size(), 0);
     {
         ecpair::tap_bridge::BridgePayloadWriter writer(valid);
-        std::vector<std::uint8_t> ethernet(60, 0x5A);
-        REQUIRE(writer.add(ethernet));
+        REQUIRE(writer.add(marked));
         writer.seal(ecpair::tap_bridge::BridgeKind::Data, 0xBAD0BAD0, 1, 0);
     }
     std::vector<std::vector<std::uint8_t>> garbage;
     auto flipped = valid;
-    flipped[40] ^= 0x01;  // a payload bit: the CRC catches it
+    flipped[40] ^= 0x01;  // a payload bit (the carried frame's byte 14): the CRC catches it
     garbage.push_back(flipped);
     auto truncated = valid;
     truncated.resize(30);  // shorter than its length says
@@ -416,13 +436,15 @@ TEST_CASE("garbled and truncated bridge datagrams from the bus are counted, neve
     auto bad_poll = valid;
     bad_poll[3] = static_cast<std::uint8_t>(ecpair::tap_bridge::BridgeKind::Poll);  // a POLL with frames
     garbage.push_back(bad_poll);
+
+    InterfaceCapture m2_tap(pair.topology.m2(), "ecpair0");
     {
         // Onto the master-master cable from m1's side: m2 sees each on its first pass.
         NamespaceScope inside(pair.topology.m1());
         auto probe = ecpair::link::PcapLink::open("m1-red");
         REQUIRE(probe);
         for (const auto& data : garbage) REQUIRE((*probe)->send(bridge_frame(data)));
-        // And the valid one, as the control: it is delivered (the TAPs are silent otherwise).
+        // And the valid one, as the control: it is delivered.
         REQUIRE((*probe)->send(bridge_frame(valid)));
     }
     const auto after = pair.m2.wait_for(
@@ -431,21 +453,21 @@ TEST_CASE("garbled and truncated bridge datagrams from the bus are counted, neve
     INFO(pair.m2.log());
     REQUIRE(after);
     CHECK(after->tap_bridge().dropped_garbled() == before.dropped_garbled() + garbage.size());
-    // Of all that, only the valid datagram's frame reached m2's TAP: m2
-    // received what m1 sent meanwhile (IPv6 and ARP chatter) and one more.
-    const auto delivered = [&] {
-        const auto m2 = pair.m2.status().tap_bridge();
-        const auto m1 = pair.m1->status().tap_bridge();
-        return std::pair{m2.rx_frames() - before.rx_frames(), m1.tx_frames() - m1_before.tx_frames()};
-    };
-    std::pair<std::uint64_t, std::uint64_t> counts;
-    for (const auto give_up = std::chrono::steady_clock::now() + 5s; std::chrono::steady_clock::now() < give_up;) {
-        counts = delivered();
-        if (counts.first == counts.second + 1) break;
-        std::this_thread::sleep_for(50ms);
+    // Of all that, only the valid datagram's frame reaches m2's TAP, once and
+    // unchanged: every frame addressed to the mark's MAC (5a:5a:..., the
+    // flipped copy's too: its bit is past the Ethernet header) is counted.
+    std::vector<std::vector<std::uint8_t>> delivered;
+    for (auto quiet_until = std::chrono::steady_clock::now() + 5s; std::chrono::steady_clock::now() < quiet_until;) {
+        const auto frame = m2_tap.next(100ms);
+        if (!frame || frame->size() < 6 || !std::all_of(frame->begin(), frame->begin() + 6, [](auto b) { return b == 0x5A; })) {
+            continue;
+        }
+        delivered.push_back(*frame);
+        // Once the control is in, half a second more for anything that would follow it.
+        quiet_until = std::min(quiet_until, std::chrono::steady_clock::now() + 500ms);
     }
-    INFO("m2 received " << counts.first << " frames, m1 sent " << counts.second);
-    CHECK(counts.first == counts.second + 1);
+    REQUIRE(delivered.size() == 1);
+    CHECK(delivered.front() == marked);
     CHECK(pair.ping(pair.topology.m1(), kM2Address, 3) == 0);
 }
 
