@@ -2,9 +2,9 @@
 
 #include <arpa/inet.h>
 #include <fcntl.h>
-#include <linux/if.h>
 #include <linux/if_tun.h>
 #include <linux/ipv6.h>
+#include <net/if.h>  // struct ifreq as the other ioctl users have it (not linux/if.h's: one type per program)
 #include <net/if_arp.h>
 #include <netinet/in.h>
 #include <sys/ioctl.h>

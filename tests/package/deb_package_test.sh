@@ -56,7 +56,8 @@ grep -q "^ExecStopPost=/usr/bin/ecpair-linkguard " "$root/lib/systemd/system/ecp
 grep -q "/usr/local" "$root/lib/systemd/system/ecpaird@.service" && fail "the installed unit names /usr/local"
 
 out=$("$root/usr/bin/ecpairctl" eni "$eni") || fail "the installed ecpairctl refused $eni: $out"
-echo "$out" | head -5
+# Not `echo | head`: head leaving early makes echo die of SIGPIPE, a failure under pipefail.
+head -5 <<<"$out"
 grep -q "slave" <<<"$out" || fail "ecpairctl eni printed no slave"
 "$root/usr/bin/ecpairctl" eni "$work/control/conffiles" >/dev/null 2>&1 && fail "ecpairctl eni accepted a file that is no ENI"
 echo "PASS"

@@ -146,6 +146,14 @@ struct Esc::Impl {
     EscCoeContext coe_context;
     LegacyIdSelector legacy;
 
+    // What DL status (0x0110) was last computed from; nullopt: not since power-on.
+    struct DlStatusInputs {
+        std::uint32_t ports_version = 0;
+        bool pdi_operational = false;
+        friend bool operator==(const DlStatusInputs&, const DlStatusInputs&) = default;
+    };
+    std::optional<DlStatusInputs> dl_status_from;
+
     bool powered = false;
     std::array<std::optional<std::uint64_t>, kMaxPorts> arrival_seq{};
     std::optional<std::uint64_t> temporary_loop_until_ns;
@@ -295,6 +303,10 @@ std::optional<int> Esc::Impl::entry_port(std::uint64_t frame_seq) const {
 }
 
 void Esc::Impl::update_dl_status() {
+    // Asked for at every port a frame passes; the ports and the PDI change rarely.
+    const DlStatusInputs inputs{ports.version(), eeprom.loaded()};
+    if (dl_status_from == inputs) return;
+    dl_status_from = inputs;
     const std::uint16_t status = dl_status(ports, eeprom.loaded());
     if (status == memory.load<std::uint16_t>(reg::kDlStatus)) return;
     memory.store<std::uint16_t>(reg::kDlStatus, status);
@@ -305,6 +317,7 @@ void Esc::Impl::update_dl_status() {
 void Esc::Impl::power_on() {
     powered = true;
     memory.clear();
+    dl_status_from.reset();  // the register is back at its reset value
     regs::write_reset_values(memory.bytes(),
                              regs::EscHardware{static_cast<std::uint8_t>(layout.ram_bytes / 1024), layout.port_descriptor()});
     memory.set_ram_bytes(layout.ram_bytes);

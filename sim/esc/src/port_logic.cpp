@@ -63,6 +63,7 @@ bool PortLogic::set_link(int port, bool up) {
     Port& p = ports_[index(port)];
     const bool counts_as_lost = !up && p.state == PortState::Open && p.setting == LoopSetting::Auto;
     p.link = up;
+    ++version_;
     apply(port, up ? PortEvent::LinkUp : PortEvent::LinkDown);
     return counts_as_lost;
 }
@@ -94,6 +95,7 @@ void PortLogic::apply(int port, PortEvent event) {
     if (next == p.state) return;
     log_->info("{}: port {} {} -> {} ({})", owner_, port, to_string(p.state), to_string(next), to_string(event));
     p.state = next;
+    ++version_;
 }
 
 }  // namespace ecpair::sim

@@ -61,6 +61,9 @@ public:
     // Port 0 closed under Auto/Auto-close: the processing unit marks and
     // destroys circulating frames (datasheet I §3.5).
     bool circulating_frame_check() const;
+    // Counts the changes of any port's link or loop state: what depends on
+    // them only (DL status) is recomputed when it moved, not for every frame.
+    std::uint32_t version() const { return version_; }
 
 private:
     struct Port {
@@ -76,6 +79,7 @@ private:
     std::shared_ptr<spdlog::logger> log_;
     std::string owner_;
     std::array<Port, kMaxPorts> ports_{};
+    std::uint32_t version_ = 0;
 };
 
 }  // namespace ecpair::sim
