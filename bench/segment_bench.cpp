@@ -14,7 +14,7 @@
 
 #include "ecpair/eni/loader.hpp"
 #include "ecpair/master/cyclic_exchange.hpp"
-#include "ecpair/sequencer/master_state_machine.hpp"
+#include "ecpair/sequencer/run_without_cyclic_master.hpp"
 #include "ecpair/sim/eni_generator.hpp"
 #include "ecpair/sim/segment_bus_access.hpp"
 
@@ -35,15 +35,9 @@ struct Fixture {
         eni = eni::load_eni_string(sim::generate_eni(options), "generated.xml").value();
         segment.emplace(sim::Segment::from_eni(*eni).value());
         sim::SegmentBusAccess bus(*segment);
-        eni::SlaveState cyclic = eni::SlaveState::Init;
-        sequencer::StateMachineHooks hooks;
-        hooks.request_cyclic_state = [&cyclic](eni::SlaveState s) { cyclic = s; };
-        hooks.cyclic_state = [&cyclic] { return cyclic; };
-        {
-            sequencer::MasterStateMachine machine(eni, bus, hooks);
-            machine.request(sequencer::MasterState::Op);
-            machine.wait_idle(std::chrono::seconds(60));
-            if (machine.current() != sequencer::MasterState::Op) throw std::runtime_error("the segment did not reach OP");
+        if (sequencer::run_without_cyclic_master(eni, bus, sequencer::MasterState::Op, std::chrono::seconds(60)) !=
+            sequencer::MasterState::Op) {
+            throw std::runtime_error("the segment did not reach OP");
         }
         master::CyclicExchange exchange(master::CyclicPlan::build(*eni, {}).value());
         std::vector<std::uint8_t> outputs(exchange.plan().output_image_size, 0x5a);

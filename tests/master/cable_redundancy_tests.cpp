@@ -19,7 +19,7 @@
 #include "ecpair/eni/loader.hpp"
 #include "ecpair/link/memory_link.hpp"
 #include "ecpair/master/master.hpp"
-#include "ecpair/sequencer/master_state_machine.hpp"
+#include "ecpair/sequencer/run_without_cyclic_master.hpp"
 #include "ecpair/sim/eni_generator.hpp"
 #include "ecpair/sim/segment.hpp"
 #include "ecpair/sim/segment_bus_access.hpp"
@@ -147,14 +147,8 @@ private:
 
     void bring_segment_to_op() {
         sim::SegmentBusAccess bus(segment_);
-        eni::SlaveState cyclic = eni::SlaveState::Init;
-        sequencer::StateMachineHooks hooks;
-        hooks.request_cyclic_state = [&cyclic](eni::SlaveState s) { cyclic = s; };
-        hooks.cyclic_state = [&cyclic] { return cyclic; };
-        sequencer::MasterStateMachine machine(eni_, bus, hooks);
-        machine.request(sequencer::MasterState::Op);
-        machine.wait_idle(std::chrono::seconds(60));
-        REQUIRE(machine.current() == sequencer::MasterState::Op);
+        REQUIRE(sequencer::run_without_cyclic_master(eni_, bus, sequencer::MasterState::Op, std::chrono::seconds(60)) ==
+                sequencer::MasterState::Op);
     }
 
     void carry_all(link::Link& far_end, sim::Side entry, std::vector<ReturnedCopy>& returned) {

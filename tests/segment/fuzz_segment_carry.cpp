@@ -10,6 +10,10 @@
 // RED carrier down, an unknown slave spliced in, none, none; bits 4-7: the
 // slave or link it concerns); the rest is the frame. Faults are undone after
 // each input so that the wiring does not drift into a dead segment.
+//
+// Every input goes through two such segments, one with the fast pass and one
+// where every ESC processes every frame: the frames, exits and every ESC's
+// memory (but DC's system time copy, see fast_pass_test.cpp) must agree.
 
 #include <algorithm>
 #include <array>
@@ -25,7 +29,7 @@ namespace {
 
 using ecpair::sim::Side;
 
-ecpair::sim::Segment make_segment() {
+ecpair::sim::Segment make_segment(bool fast_pass) {
     ecpair::set_log_level("warn");  // faults are logged at info: thousands of lines otherwise
     auto slave = [](const char* name, const char* physics) {
         ecpair::sim::EscDescription description;
@@ -41,7 +45,9 @@ ecpair::sim::Segment make_segment() {
         {slave("line 1", "YY"), 1003, ecpair::eni::PreviousPort{true, 'B', 1001}, 0},
         {slave("line 2", "YY"), 1004, std::nullopt, 0},
     };
-    auto segment = ecpair::sim::Segment::from_specs(std::move(specs));
+    ecpair::sim::SegmentOptions options;
+    options.fast_pass = fast_pass;
+    auto segment = ecpair::sim::Segment::from_specs(std::move(specs), options);
     if (!segment) std::abort();
     return std::move(segment).value();
 }
@@ -77,22 +83,42 @@ void undo(ecpair::sim::Segment& segment, const AppliedFault& applied) {
     }
 }
 
+bool same_escs(const ecpair::sim::Segment& a, const ecpair::sim::Segment& b) {
+    constexpr std::size_t kSystemTime = 0x0910;  // 8 bytes, taken only by frames that address the ESC
+    for (std::size_t position = 1; position <= a.slave_count(); ++position) {
+        const auto x = a.slave(position).read_memory(0, 0x10000);
+        const auto y = b.slave(position).read_memory(0, 0x10000);
+        if (!std::equal(x.begin(), x.begin() + kSystemTime, y.begin()) ||
+            !std::equal(x.begin() + kSystemTime + 8, x.end(), y.begin() + kSystemTime + 8)) {
+            return false;
+        }
+    }
+    return true;
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-    static ecpair::sim::Segment segment = make_segment();
+    static ecpair::sim::Segment segment = make_segment(true);
+    static ecpair::sim::Segment reference = make_segment(false);
     static std::uint64_t now_ns = 0;
     if (size == 0) return 0;
 
     const AppliedFault fault = apply_fault(segment, data[0]);
+    apply_fault(reference, data[0]);
     const Side entry = (data[0] & 1) != 0 ? Side::Red : Side::Main;
     std::array<std::uint8_t, ecpair::wire::kMaxFrameSizeVlan> buffer{};
     const std::size_t length = std::min(size - 1, buffer.size());
     std::copy_n(data + 1, length, buffer.begin());
     std::size_t frame_size = length;
+    auto reference_buffer = buffer;
+    std::size_t reference_size = length;
     now_ns += 1'000'000;
-    (void)segment.carry(entry, buffer, frame_size, now_ns);
+    const auto exit = segment.carry(entry, buffer, frame_size, now_ns);
+    const auto reference_exit = reference.carry(entry, reference_buffer, reference_size, now_ns);
     undo(segment, fault);
+    undo(reference, fault);
+    if (exit != reference_exit || buffer != reference_buffer || !same_escs(segment, reference)) std::abort();
     if (frame_size != std::max(length, ecpair::wire::kMinFrameSize)) std::abort();
     if (segment.slave_count() != 4) std::abort();
 

@@ -23,12 +23,13 @@ std::uint32_t with_adp(std::uint32_t address, std::uint16_t adp) {
 DatagramProcessor::DatagramProcessor(EscMemory& memory, PhysicalAccess& physical, FmmuUnit& fmmus)
     : memory_(memory), physical_(physical), fmmus_(fmmus) {}
 
-void DatagramProcessor::process(const wire::DatagramView& datagram) {
+bool DatagramProcessor::process(const wire::DatagramView& datagram) {
     using wire::Command;
     const std::uint32_t address = datagram.address();
     const auto adp = static_cast<std::uint16_t>(address & 0xFFFF);
     const auto incremented = static_cast<std::uint16_t>(adp + 1);
     std::uint16_t wkc_increment = 0;
+    bool addressed = true;
     switch (datagram.command()) {
         case Command::Aprd:
         case Command::Apwr:
@@ -39,13 +40,21 @@ void DatagramProcessor::process(const wire::DatagramView& datagram) {
             const Access access = command == Command::Armw
                                       ? Access::ReadOrWrite
                                       : kAccess[static_cast<std::size_t>(command) - static_cast<std::size_t>(Command::Aprd)];
+            addressed = command == Command::Armw || adp == 0;
             wkc_increment = physical_access(datagram, access, adp == 0);
             datagram.set_address(with_adp(address, incremented));
             break;
         }
-        case Command::Fprd: wkc_increment = physical_access(datagram, Access::Read, configured_address_matches(adp)); break;
-        case Command::Fpwr: wkc_increment = physical_access(datagram, Access::Write, configured_address_matches(adp)); break;
-        case Command::Fprw: wkc_increment = physical_access(datagram, Access::ReadWrite, configured_address_matches(adp)); break;
+        case Command::Fprd:
+        case Command::Fpwr:
+        case Command::Fprw: {
+            static constexpr std::array kAccess = {Access::Read, Access::Write, Access::ReadWrite};
+            const auto command = static_cast<std::size_t>(datagram.command());
+            const Access access = kAccess[command - static_cast<std::size_t>(Command::Fprd)];
+            addressed = configured_address_matches(adp);
+            wkc_increment = physical_access(datagram, access, addressed);
+            break;
+        }
         case Command::Frmw: wkc_increment = physical_access(datagram, Access::ReadOrWrite, configured_address_matches(adp)); break;
         case Command::Brd:
             wkc_increment = physical_access(datagram, Access::BroadcastRead, true);
@@ -61,14 +70,18 @@ void DatagramProcessor::process(const wire::DatagramView& datagram) {
             break;
         case Command::Lrd:
         case Command::Lwr:
-        case Command::Lrw: wkc_increment = logical_access(datagram); break;
+        case Command::Lrw:
+            addressed = fmmus_.maps(address, datagram.data().size());
+            if (addressed) wkc_increment = logical_access(datagram);
+            break;
         case Command::Nop:
-        default: break;  // NOP and reserved commands touch nothing
+        default: addressed = false; break;  // NOP and reserved commands touch nothing
     }
     if (wkc_increment != 0) datagram.set_wkc(static_cast<std::uint16_t>(datagram.wkc() + wkc_increment));
     const auto irq = static_cast<std::uint16_t>(memory_.load<std::uint16_t>(reg::kEcatEventRequest) &
                                                 memory_.load<std::uint16_t>(reg::kEcatEventMask));
     if (irq != 0) datagram.set_irq(static_cast<std::uint16_t>(datagram.irq() | irq));
+    return addressed;
 }
 
 bool DatagramProcessor::configured_address_matches(std::uint16_t adp) const {

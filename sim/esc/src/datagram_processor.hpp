@@ -15,6 +15,11 @@
 //    commands, +1 for ARMW/FRMW, when at least one byte (bit) was accessed;
 //  - IRQ: (ECAT event request 0x0210 AND mask 0x0200) is ORed into every
 //    datagram.
+//
+// A datagram addresses the ESC when its addressing selects it (ADP 0, the
+// station address or alias, every slave for BRD/BWR/BRW/ARMW/FRMW) or, for
+// Lxx, when an active FMMU maps one of its logical bytes; one that does not
+// leaves the ESC as it was.
 
 #include <array>
 #include <cstdint>
@@ -30,7 +35,8 @@ class DatagramProcessor {
 public:
     DatagramProcessor(EscMemory& memory, PhysicalAccess& physical, FmmuUnit& fmmus);
 
-    void process(const wire::DatagramView& datagram);
+    // True when the datagram addressed this ESC (see above).
+    bool process(const wire::DatagramView& datagram);
 
 private:
     enum class Access : std::uint8_t { Read, BroadcastRead, Write, ReadWrite, BroadcastReadWrite, ReadOrWrite };

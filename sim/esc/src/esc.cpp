@@ -112,8 +112,10 @@ struct Esc::Impl {
     Impl& operator=(const Impl&) = delete;
 
     EpuVerdict process(wire::FrameView& frame, const FrameContext& context);
-    void end_of_frame(const FrameContext& context);
-    void run_slave_stack(bool al_control_written, bool sm_activation_changed);
+    void end_of_frame(const FrameContext& context, bool addressed);
+    // `addressed`: a datagram of the frame addressed this ESC; the
+    // application runs only then (a frame passing by changes nothing here).
+    void run_slave_stack(bool al_control_written, bool sm_activation_changed, bool addressed);
     void on_dl_control_written(const FrameContext& context, std::uint8_t loop_before);
     void expire_temporary_loop(std::uint64_t now_ns);
     void apply_state(AlState state);
@@ -173,17 +175,18 @@ EpuVerdict Esc::Impl::process(wire::FrameView& frame, const FrameContext& contex
         for (auto datagram : frame) datagram.set_circulating(true);
     }
     dc.start_of_frame(context.time_ns);
-    for (auto datagram : frame) datagrams.process(datagram);
+    bool addressed = false;
+    for (auto datagram : frame) addressed = datagrams.process(datagram) || addressed;
     if (forwarding_rule()) {
         wire::MacAddress source = frame.ethernet().source;
         source.bytes[0] = static_cast<std::uint8_t>(source.bytes[0] | 0x02);
         frame.set_source(source);
     }
-    end_of_frame(context);
+    end_of_frame(context, addressed);
     return EpuVerdict::Forward;
 }
 
-void Esc::Impl::end_of_frame(const FrameContext& context) {
+void Esc::Impl::end_of_frame(const FrameContext& context, bool addressed) {
     bool al_control_written = false;
     std::uint8_t activation_changed = 0;
     if (memory.has_staged()) {
@@ -206,15 +209,15 @@ void Esc::Impl::end_of_frame(const FrameContext& context) {
         memory.clear_staged();
     }
     if (sync_managers.take_watchdog_trigger()) watchdog.trigger(context.time_ns);
-    run_slave_stack(al_control_written, activation_changed != 0);
+    run_slave_stack(al_control_written, activation_changed != 0, addressed);
     update_dl_status();
 }
 
-void Esc::Impl::run_slave_stack(bool al_control_written, bool sm_activation_changed) {
+void Esc::Impl::run_slave_stack(bool al_control_written, bool sm_activation_changed, bool addressed) {
     if (!eeprom.loaded()) return;  // the PDI is not operational
     if (device_emulation()) {
         if (al_control_written) al.on_control_written_device_emulation();
-        application.after_frame(al.state());
+        if (addressed) application.after_frame(al.state());
         return;
     }
     bool state_changed = false;
@@ -227,7 +230,7 @@ void Esc::Impl::run_slave_stack(bool al_control_written, bool sm_activation_chan
     }
     if (state_changed) apply_state(al.state());
     mailbox.after_frame();
-    application.after_frame(al.state());
+    if (addressed) application.after_frame(al.state());
 }
 
 // What the slave stack does with its SyncManagers in each state, as SOES:
@@ -356,6 +359,38 @@ EpuVerdict Esc::process(wire::FrameView& frame, const FrameContext& context) { r
 EpuVerdict Esc::process_non_ethercat() const {
     if (!impl_->powered) return EpuVerdict::Destroy;
     return impl_->forwarding_rule() ? EpuVerdict::Destroy : EpuVerdict::Forward;
+}
+
+PassDigest Esc::pass_digest() const {
+    const Impl& esc = *impl_;
+    PassDigest digest;
+    digest.powered = esc.powered;
+    if (!esc.powered) return digest;
+    digest.passable = !esc.ports.circulating_frame_check() && !esc.ports.any_closed_wait() &&
+                      !esc.temporary_loop_until_ns;
+    digest.forwarding_rule = esc.forwarding_rule();
+    for (int p = 0; p < kMaxPorts; ++p) {
+        if (esc.ports.open(p)) digest.open_ports = static_cast<std::uint8_t>(digest.open_ports | (1U << p));
+    }
+    digest.irq = static_cast<std::uint16_t>(esc.memory.load<std::uint16_t>(reg::kEcatEventRequest) &
+                                            esc.memory.load<std::uint16_t>(reg::kEcatEventMask));
+    digest.station_address = esc.memory.load<std::uint16_t>(reg::kStationAddress);
+    digest.station_alias = esc.memory.load<std::uint16_t>(reg::kStationAlias);
+    const std::size_t fmmus = esc.fmmus.active_count();
+    for (std::size_t f = 0; f < fmmus; ++f) {
+        const FmmuUnit::LogicalBytes bytes = esc.fmmus.logical_bytes(f);
+        const std::size_t slot = std::min(f, PassDigest::kLogicalRanges - 1);
+        auto& range = digest.logical[slot];
+        if (f <= slot) {
+            range = {bytes.begin, bytes.end};
+        } else {
+            range = {std::min(range.begin, bytes.begin), std::max(range.end, bytes.end)};
+        }
+    }
+    digest.logical_count = static_cast<std::uint8_t>(std::min(fmmus, PassDigest::kLogicalRanges));
+    digest.fmmu_maps_registers = esc.fmmus.maps_physical_below(regs::kProcessRam);
+    if (const auto deadline = esc.watchdog.deadline()) digest.deadline_ns = *deadline;
+    return digest;
 }
 
 int Esc::port_count() const { return impl_->layout.port_count; }

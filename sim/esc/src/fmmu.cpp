@@ -55,6 +55,15 @@ void FmmuUnit::refresh(const EscMemory& memory) {
     }
 }
 
+bool FmmuUnit::maps(std::uint32_t logical_address, std::size_t length) const {
+    const std::uint64_t end = std::uint64_t{logical_address} + length;
+    for (std::size_t i = 0; i < count_; ++i) {
+        const Mapping& m = mappings_[i];
+        if (ranges_overlap(logical_address, end, m.logical_byte_begin, m.logical_byte_end)) return true;
+    }
+    return false;
+}
+
 namespace {
 
 // Where a byte-aligned mapping puts the part of the datagram [begin, end) it covers.

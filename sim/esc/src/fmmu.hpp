@@ -44,6 +44,25 @@ public:
     };
     Window write_window(std::uint32_t logical_address, std::size_t length) const;
 
+    // Whether an active FMMU maps a logical byte of [logical_address, + length).
+    bool maps(std::uint32_t logical_address, std::size_t length) const;
+    // The active FMMUs in FMMU order, and the logical bytes [begin, end) each maps.
+    struct LogicalBytes {
+        std::uint64_t begin = 0;
+        std::uint64_t end = 0;
+    };
+    std::size_t active_count() const { return count_; }
+    // Whether an active FMMU maps physical memory below `address` (registers, for 0x1000).
+    bool maps_physical_below(std::uint32_t address) const {
+        for (std::size_t i = 0; i < count_; ++i) {
+            if (mappings_[i].physical_bit_begin / 8 < address) return true;
+        }
+        return false;
+    }
+    LogicalBytes logical_bytes(std::size_t active) const {
+        return {mappings_[active].logical_byte_begin, mappings_[active].logical_byte_end};
+    }
+
 private:
     struct Mapping {
         std::uint64_t logical_bit_begin = 0;  // absolute bit numbers

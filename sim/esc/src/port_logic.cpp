@@ -89,6 +89,13 @@ bool PortLogic::circulating_frame_check() const {
            (port0.setting == LoopSetting::Auto || port0.setting == LoopSetting::AutoClose);
 }
 
+bool PortLogic::any_closed_wait() const {
+    for (int p = 0; p < implemented_; ++p) {
+        if (ports_[index(p)].state == PortState::ClosedWait) return true;
+    }
+    return false;
+}
+
 void PortLogic::apply(int port, PortEvent event) {
     Port& p = ports_[index(port)];
     const PortState next = next_port_state(p.state, p.setting, p.link, event);

@@ -61,6 +61,8 @@ public:
     // Port 0 closed under Auto/Auto-close: the processing unit marks and
     // destroys circulating frames (datasheet I §3.5).
     bool circulating_frame_check() const;
+    // A port in auto-close's closed wait: the next frame it receives opens it.
+    bool any_closed_wait() const;
     // Counts the changes of any port's link or loop state: what depends on
     // them only (DL status) is recomputed when it moved, not for every frame.
     std::uint32_t version() const { return version_; }

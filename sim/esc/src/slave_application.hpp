@@ -1,8 +1,8 @@
 #pragma once
 // A small application on the PDI side so that process data visibly flows.
-// After every frame the ESC processed, in SAFEOP and OP:
+// After every frame that addressed the ESC, in SAFEOP and OP:
 //
-//   inputs[0..1]  a free-running 16-bit counter (little-endian), +1 per frame
+//   inputs[0..1]  a free-running 16-bit counter (little-endian), +1 per such frame
 //   inputs[2..]   OP: a copy of the outputs, as far as both fit;
 //                 SAFEOP: zeros (outputs are not applied in SAFEOP)
 //

@@ -52,11 +52,11 @@ std::string format_status(const Segment& segment) {
 
     std::string text = fmt::format(
         "slaves={} main={} red={} in=MAIN:{},RED:{} out=MAIN:{},RED:{} destroyed={} lost_no_link={} "
-        "lost_closed_port={} non_ecat_dropped={} unprocessable={} hop_limit={} broken={}",
+        "lost_closed_port={} non_ecat_dropped={} unprocessable={} hop_limit={} epus_passed={} broken={}",
         segment.slave_count(), segment.side_link(Side::Main) ? "up" : "down",
         segment.side_link(Side::Red) ? "up" : "down", main.frames_in, red.frames_in, main.frames_out, red.frames_out,
         c.destroyed_circulating, c.lost_no_link, c.lost_closed_port, c.non_ethercat_dropped, c.unprocessable,
-        c.hop_limit_exceeded, broken.empty() ? "none" : broken);
+        c.hop_limit_exceeded, c.epus_passed, broken.empty() ? "none" : broken);
 
     for (std::size_t position = 1; position <= segment.slave_count(); ++position) {
         const Esc& esc = segment.slave(position);

@@ -1,69 +1,27 @@
-// How a frame travels through the simulated segment, and the faults.
-//
-// carry() is a small state machine over three steps, repeated until the
-// frame leaves at a side or dies:
-//
-//   Transmit(end)      the frame leaves by `end` (a side, or an open slave
-//                      port) over its cable. No cable, a cut cable or a dead
-//                      far end (unpowered slave, side without carrier): lost.
-//                      Reaching a side: the frame leaves the segment there.
-//                      Reaching a slave port: the ESC is told (DC latch,
-//                      auto-close's closed wait); if that port was closed the
-//                      frame is lost, else it goes on inside that ESC:
-//                      port 0 -> Epu, port p -> Loopback(next_port(p)).
-//   Loopback(slave, p) the ESC's loopback function of port p: an open port
-//                      sends the frame out (Transmit); a closed one passes
-//                      it to the next port, and a closed port 0 hands it
-//                      into the processing unit (Epu).
-//   Epu(slave)         the processing unit works on the frame (or destroys
-//                      it), then it goes to Loopback(3), the port after the
-//                      EPU in every ESC's order.
-//
-// An ESC forwards a frame while it streams through, so the frame's own
-// register writes (a new loop setting in 0x0101, applied by the ESC at the
-// end of the frame) cannot change the way this frame leaves that ESC: the
-// loopbacks after an EPU pass use the ports' states from before it.
-//
-// Each arrival at a port adds options.hop_delay_ns to the frame's time.
-//
-// While the port states stay fixed, each step has exactly one predecessor,
-// so a frame's path cannot run into a loop that avoids its entry: it always
-// ends at a side (or dies). The bound on the steps (kStepsPerSlave per
-// slave) is a guard against an ESC that changes its mind mid-frame.
+// The simulated segment's construction, its links and the faults; how a
+// frame travels through it is segment_carry.cpp.
 //
 // Physical links are derived, never stored here: a port has link when its
 // cable is intact and both ends are alive (slave powered, side with
-// carrier). update_links() pushes changes into the ESCs after every fault.
+// carrier). update_links() pushes changes into the ESCs after every fault,
+// and takes the ESCs' pass digests again.
 
 #include "ecpair/sim/segment.hpp"
 
 #include <fmt/format.h>
 
-#include <cassert>
-
 #include "ecpair/common/log.hpp"
 #include "ecpair/eni/eni_topology.hpp"
 #include "ecpair/eni/hot_connect_groups.hpp"
 #include "ecpair/wire/frame.hpp"
+#include "fast_pass.hpp"
+#include "segment_log.hpp"
 
 namespace ecpair::sim {
 
 namespace {
 
-// An upper bound on the steps a frame may take per slave: each port of a
-// slave is reached at most once, each arrival a few steps.
-constexpr std::size_t kStepsPerSlave = 32;
-
-spdlog::logger& segment_log() {
-    static const auto logger = ecpair::logger("segment");
-    return *logger;
-}
-
-// Whether the per-frame debug lines are wanted; checked before building
-// their text, so that carry() allocates nothing when they are not.
-bool tracing_frames() { return segment_log().should_log(spdlog::level::debug); }
-
-enum class FrameKind : std::uint8_t { EtherCat, NotEtherCat, Unprocessable };
+using detail::segment_log;
 
 PortMask port_mask(const Esc& esc) {
     PortMask mask = 0;
@@ -107,7 +65,11 @@ EscDescription unknown_slave_description() {
 }
 
 Segment::Segment(std::vector<Esc> escs, Topology topology, SegmentOptions options)
-    : escs_(std::move(escs)), origins_(escs_.size()), topology_(std::move(topology)), options_(options) {
+    : escs_(std::move(escs)),
+      origins_(escs_.size()),
+      topology_(std::move(topology)),
+      options_(options),
+      fast_(std::make_unique<detail::FastPass>()) {
     update_links(/*announce=*/false);  // the initial links are no news
 }
 
@@ -171,139 +133,6 @@ Expected<Segment, TopologyError> Segment::with_wiring(std::vector<EscDescription
     return Segment(std::move(escs), std::move(topology).value(), options);
 }
 
-// ------------------------------------------------------------------ time
-
-void Segment::advance_time(std::uint64_t now_ns) {
-    for (auto& esc : escs_) esc.advance_time(now_ns);
-}
-
-std::optional<std::uint64_t> Segment::next_deadline() const {
-    std::optional<std::uint64_t> earliest;
-    for (const auto& esc : escs_) {
-        const auto deadline = esc.next_deadline();
-        if (deadline && (!earliest || *deadline < *earliest)) earliest = deadline;
-    }
-    return earliest;
-}
-
-// ------------------------------------------------------------------ carry
-
-std::optional<Side> Segment::carry(Side entry, Bytes buffer, std::size_t& size, std::uint64_t now_ns) {
-    assert(buffer.size() >= wire::kMinFrameSize && size <= buffer.size());
-    size = wire::pad_to_minimum(buffer, size);
-    ++counters_.sides[static_cast<std::size_t>(entry)].frames_in;
-    // A frame from a side proves that side's carrier is up. ecsim reads carrier
-    // changes between batches, so a master's first frames after a plug can
-    // come before the news; without this they went round the ring and out of a
-    // side still thought dead (lost_no_link), which a real ESC never does.
-    if (!side_link_[static_cast<std::size_t>(entry)]) set_side_link(entry, true);
-
-    auto parsed = wire::FrameView::parse(buffer.first(size));
-    FrameKind kind = FrameKind::EtherCat;
-    if (!parsed) {
-        kind = parsed.error().code == wire::DecodeErrc::NotEtherCat ? FrameKind::NotEtherCat : FrameKind::Unprocessable;
-        if (kind == FrameKind::Unprocessable) {
-            ++counters_.unprocessable;
-            if (tracing_frames()) {
-                segment_log().debug("frame from {}: {}; forwarded without processing", to_string(entry),
-                                    parsed.error().describe());
-            }
-        }
-    }
-
-    enum class Step : std::uint8_t { Transmit, Loopback, Epu };
-    Step step = Step::Transmit;
-    Endpoint leaving = Endpoint::of_side(entry);  // Transmit
-    std::size_t slave = 0;                        // Loopback, Epu
-    int port = 0;                                 // Loopback
-    // Port states of `slave` from before its EPU pass, while the frame is
-    // still inside that slave (see above).
-    std::optional<std::array<bool, kPortCount>> open_before_epu;
-    const std::uint64_t seq = next_frame_seq_++;
-    std::uint64_t time = now_ns;
-
-    const std::size_t max_steps = kStepsPerSlave * (escs_.size() + 1);
-    for (std::size_t steps = 0; steps < max_steps; ++steps) {
-        switch (step) {
-            case Step::Transmit: {
-                const auto cable = topology_.cable_at(leaving);
-                if (!cable || !cable_has_link(*cable)) {
-                    ++counters_.lost_no_link;
-                    if (tracing_frames()) {
-                        segment_log().debug("frame {} from {} lost: {} has no link", seq, to_string(entry),
-                                            describe(leaving));
-                    }
-                    return std::nullopt;
-                }
-                const Endpoint arriving = topology_.peer(*cable, leaving);
-                if (arriving.is_side()) {
-                    ++counters_.sides[static_cast<std::size_t>(arriving.side)].frames_out;
-                    return arriving.side;
-                }
-                time += options_.hop_delay_ns;
-                Esc& esc = escs_[arriving.slave];
-                const bool was_open = esc.port_open(arriving.port);
-                esc.frame_arrived_at_port(arriving.port, time, seq);
-                if (!was_open) {
-                    ++counters_.lost_closed_port;
-                    if (tracing_frames()) {
-                        segment_log().debug("frame {} from {} lost: {} is closed", seq, to_string(entry),
-                                            describe(arriving));
-                    }
-                    return std::nullopt;
-                }
-                slave = arriving.slave;
-                open_before_epu.reset();
-                if (arriving.port == 0) {
-                    step = Step::Epu;
-                } else {
-                    step = Step::Loopback;
-                    port = next_port(arriving.port);
-                }
-                break;
-            }
-            case Step::Loopback:
-                if (open_before_epu ? (*open_before_epu)[static_cast<std::size_t>(port)]
-                                    : escs_[slave].port_open(port)) {
-                    step = Step::Transmit;
-                    leaving = Endpoint::of_port(slave, port);
-                } else if (port == 0) {
-                    step = Step::Epu;
-                } else {
-                    port = next_port(port);
-                }
-                break;
-            case Step::Epu: {
-                Esc& esc = escs_[slave];
-                if (!open_before_epu) {
-                    open_before_epu.emplace();
-                    for (int p = 0; p < kPortCount; ++p)
-                        (*open_before_epu)[static_cast<std::size_t>(p)] = esc.port_open(p);
-                }
-                EpuVerdict verdict = EpuVerdict::Forward;
-                if (kind == FrameKind::EtherCat) {
-                    verdict = esc.process(parsed.value(), FrameContext{time, seq});
-                    if (verdict == EpuVerdict::Destroy) ++counters_.destroyed_circulating;
-                } else if (kind == FrameKind::NotEtherCat) {
-                    verdict = esc.process_non_ethercat();
-                    if (verdict == EpuVerdict::Destroy) ++counters_.non_ethercat_dropped;
-                }
-                if (verdict == EpuVerdict::Destroy) {
-                    segment_log().debug("frame {} from {} destroyed by the EPU of slave {}", seq, to_string(entry),
-                                        slave + 1);
-                    return std::nullopt;
-                }
-                step = Step::Loopback;
-                port = next_port(0);
-                break;
-            }
-        }
-    }
-    ++counters_.hop_limit_exceeded;
-    segment_log().warn("frame {} from {} still travelling after {} steps: dropped", seq, to_string(entry), max_steps);
-    return std::nullopt;
-}
-
 // ------------------------------------------------------------------ links
 
 bool Segment::endpoint_alive(const Endpoint& end) const {
@@ -328,6 +157,7 @@ void Segment::update_links(bool announce) {
             }
         }
     }
+    refresh_digests();
 }
 
 void Segment::replug(std::span<const std::size_t> cables) {

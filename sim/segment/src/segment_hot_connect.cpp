@@ -8,14 +8,12 @@
 
 #include "ecpair/common/log.hpp"
 #include "ecpair/sim/segment.hpp"
+#include "segment_log.hpp"
 
 namespace ecpair::sim {
 namespace {
 
-spdlog::logger& segment_log() {
-    static const auto logger = ecpair::logger("segment");
-    return *logger;
-}
+using detail::segment_log;
 
 Expected<void, FaultError> check_port(int port) {
     if (port < 0 || port >= kPortCount) {

@@ -10,6 +10,7 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -80,6 +81,45 @@ struct FrameContext {
 
 enum class EpuVerdict : std::uint8_t { Forward, Destroy };
 
+// What the segment needs of an ESC to carry a frame past it without calling
+// it, when no datagram of the frame addresses it (the segment's fast pass).
+// While `passable`, such a frame changes nothing in the ESC (the slave
+// application runs only for frames that address it) and the ESC changes only
+// three things in the frame: ADP of APxx datagrams (+1), every datagram's IRQ
+// field (ORed with `irq`) and, with the forwarding rule, the source MAC's
+// locally administered bit. The fields are a snapshot: the segment takes a
+// new one after every call that may change the ESC.
+struct PassDigest {
+    // Nothing happens per frame: powered, port 0 open or set Open/Closed (no
+    // circulating-frame check), no port in auto-close's closed wait, no
+    // temporary loop setting running out.
+    bool passable = false;
+    bool powered = false;
+    bool forwarding_rule = false;
+    // An FMMU maps a register (below 0x1000): a logical write may reach DL
+    // control or the DC latch, which read where the frame arrived.
+    bool fmmu_maps_registers = false;
+    std::uint8_t open_ports = 0;  // bit p: port_open(p)
+    std::uint8_t logical_count = 0;
+    std::uint16_t irq = 0;        // ECAT event request AND mask
+    // What FPxx and Lxx match: the station address and alias (the alias
+    // counts even when not enabled: a digest may say "addressed" too often,
+    // never too rarely) and the logical bytes [begin, end) the active FMMUs
+    // map, one range each; the last range covers all FMMUs from it on.
+    std::uint16_t station_address = 0;
+    std::uint16_t station_alias = 0;
+    // The process data watchdog expires then: frames from that time on go through the ESC.
+    std::uint64_t deadline_ns = std::numeric_limits<std::uint64_t>::max();
+    struct LogicalRange {
+        std::uint64_t begin = 0;
+        std::uint64_t end = 0;
+        friend bool operator==(const LogicalRange&, const LogicalRange&) = default;
+    };
+    static constexpr std::size_t kLogicalRanges = 2;  // the outputs and the inputs of most slaves
+    std::array<LogicalRange, kLogicalRanges> logical{};
+    friend bool operator==(const PassDigest&, const PassDigest&) = default;
+};
+
 class Esc {
 public:
     explicit Esc(EscDescription description);
@@ -99,6 +139,8 @@ public:
     // A non-EtherCAT frame reaching the EPU: destroyed when the forwarding rule
     // (0x0100 b0) is on, forwarded unchanged otherwise.
     EpuVerdict process_non_ethercat() const;
+    // The ESC as a frame that does not address it sees it (see PassDigest).
+    PassDigest pass_digest() const;
 
     // ---- time (the process data watchdog)
     // The ESC's clock reached `now_ns` without a frame (frames carry their own

@@ -14,6 +14,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
@@ -24,14 +25,28 @@
 #include "ecpair/eni/model.hpp"
 #include "ecpair/sim/esc.hpp"
 #include "ecpair/sim/topology.hpp"
+#include "ecpair/wire/frame.hpp"
 
 namespace ecpair::sim {
+
+namespace detail {
+struct FastPass;
+class FrameRoute;
+struct RouteStep;
+struct WalkState;
+struct WalkResult;
+}  // namespace detail
 
 struct SegmentOptions {
     // Time a frame takes from one port to the next ESC's port (cable plus
     // the receiving ESC's forwarding delay), added at every arrival. It only
     // spaces the DC receive-time latches and the EPU times apart.
     std::uint64_t hop_delay_ns = 100;
+    // Frames pass the ESCs none of their datagrams address without calling
+    // them (see segment_carry.cpp); what a master sees is the same either way.
+    // Off: every ESC on the path processes every frame (the reference the
+    // tests compare the fast pass with).
+    bool fast_pass = true;
 };
 
 // A slave of a segment described by hand (tests) or taken from an ENI.
@@ -57,6 +72,7 @@ struct SegmentCounters {
     std::uint64_t non_ethercat_dropped = 0;   // destroyed by an EPU's forwarding rule
     std::uint64_t unprocessable = 0;          // EtherType 0x88A4 but not a valid datagram frame: forwarded untouched
     std::uint64_t hop_limit_exceeded = 0;     // still travelling after the hop bound: dropped
+    std::uint64_t epus_passed = 0;            // EPUs the fast pass carried a frame past without calling
 };
 
 // Why a fault request was refused ("position 7 is out of range 1..5").
@@ -86,7 +102,8 @@ public:
     // time `now_ns`. Frames shorter than 60 bytes are first padded with zeros
     // (size grows; the buffer must hold at least 60 bytes). The ESCs change
     // the frame in place. Returns the side it leaves by, or nullopt when it
-    // died on the way (see the counters). Allocates nothing.
+    // died on the way (see the counters). Allocates nothing (but the first
+    // time each side's route is recorded after a change of the slave count).
     std::optional<Side> carry(Side entry, Bytes buffer, std::size_t& size, std::uint64_t now_ns);
 
     // ---- time without frames
@@ -172,6 +189,25 @@ private:
     Expected<std::size_t, FaultError> group_head(std::size_t group) const;
     Expected<void, FaultError> plug_added(Esc esc, std::size_t position, int port, std::string_view what);
 
+    // ---- carrying frames (segment_carry.cpp)
+    // The step machine with the ESCs themselves, from `state` on; `frame`
+    // is null for a frame that is not an EtherCAT datagram frame.
+    detail::WalkResult walk_through_escs(detail::WalkState& state, wire::FrameView* frame, bool ethercat,
+                                         std::uint64_t seq);
+    // The fast pass: along the recorded route, calling only the ESCs the
+    // frame may address or that are not passable. nullopt: not possible for
+    // this frame (carry() takes the step machine).
+    std::optional<detail::WalkResult> walk_fast(Side entry, wire::FrameView& frame, std::uint64_t now_ns,
+                                                std::uint64_t seq);
+    static detail::WalkState resume_after(const detail::RouteStep& step, std::size_t slave, std::uint64_t time_ns);
+    void apply_passed_before(const detail::FrameRoute& route, std::uint32_t index, wire::FrameView& frame,
+                             std::uint64_t seq);
+    std::optional<Side> finish(const detail::WalkResult& result, Side entry, std::uint64_t seq);
+    // Pass digests: taken again after every call into an ESC that may change
+    // it; one that changes ports or power forgets the recorded routes.
+    void refresh_digest(std::size_t slave);
+    void refresh_digests();
+
     std::vector<Esc> escs_;
     std::vector<Origin> origins_;  // per slave
     std::size_t group_count_ = 0;
@@ -180,6 +216,7 @@ private:
     std::array<bool, kSideCount> side_link_{true, true};
     SegmentCounters counters_;
     std::uint64_t next_frame_seq_ = 1;
+    std::unique_ptr<detail::FastPass> fast_;
 };
 
 }  // namespace ecpair::sim
