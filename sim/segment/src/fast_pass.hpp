@@ -16,6 +16,7 @@ namespace ecpair::sim::detail {
 
 struct FastPass {
     std::vector<PassDigest> digests;  // per slave
+    std::size_t not_passable = 0;     // digests that are not passable
     // Per slave: the sequence number of the last frame the ESC processed on the fast pass.
     std::vector<std::uint64_t> called;
     // The route steps of the frame being carried that call an ESC, in route order.

@@ -110,6 +110,13 @@ void Segment::refresh_digest(std::size_t slave) {
     const PassDigest next = escs_[slave].pass_digest();
     PassDigest& current = fast_->digests[slave];
     if (next.open_ports != current.open_ports || next.powered != current.powered) fast_->forget_routes();
+    if (next.passable != current.passable) {
+        if (next.passable) {
+            --fast_->not_passable;
+        } else {
+            ++fast_->not_passable;
+        }
+    }
     current = next;
 }
 
@@ -118,7 +125,11 @@ void Segment::refresh_digests() {
     fast_->digests.resize(escs_.size());
     fast_->called.assign(escs_.size(), 0);
     fast_->calls.reserve((kPortCount + 1) * escs_.size());
-    for (std::size_t s = 0; s < escs_.size(); ++s) fast_->digests[s] = escs_[s].pass_digest();
+    fast_->not_passable = 0;
+    for (std::size_t s = 0; s < escs_.size(); ++s) {
+        fast_->digests[s] = escs_[s].pass_digest();
+        if (!fast_->digests[s].passable) ++fast_->not_passable;
+    }
     for (auto& route : fast_->routes) route.reserve(escs_.size());
     fast_->forget_routes();
 }
@@ -201,6 +212,9 @@ std::optional<WalkResult> Segment::walk_fast(Side entry, wire::FrameView& frame,
         }
         fast.route_valid[side] = true;
     }
+    // A route through no EPU (the RED copy in a closed ring) past passable ESCs only: nothing on
+    // it does anything to the frame.
+    if (route.epu_count() == 0 && fast.not_passable == 0) return route.end();
 
     // Which ESCs process the frame: those not passable, and those whose EPU
     // the route passes that a datagram may address or whose watchdog runs out
