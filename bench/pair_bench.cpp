@@ -136,6 +136,7 @@ public:
     }
 
     int switchover() {
+        const auto from = pair_.settled_cycle();  // after a start-up collision, if any
         for (int run = 0; run < options_.runs; ++run) {
             const int active = settle();
             const auto refused = member(active).switchover();
@@ -149,12 +150,10 @@ public:
         const auto capture = finish();
         std::vector<double> gaps;
         for (const auto& h : capture.handovers()) gaps.push_back(h.gap_us / 1000.0);
-        std::uint64_t from = 0;
-        for (const auto& [sender, cycles] : capture.cmf_cycles) from = std::max(from, *cycles.begin());
         std::printf("switchover (zero-loss hand-off), %u slaves, %u µs cycle\n", options_.slaves, options_.cycle_us);
         print_stats("  gap in process data at the slaves", gaps, cycle_ms());
         std::printf("  cycles no master numbered: %zu; cycles two masters numbered: %zu\n",
-                    capture.missing_cycles(from).size(), capture.doubled_cycles().size());
+                    capture.missing_cycles(from).size(), capture.doubled_cycles(from).size());
         std::printf("  longest gap in process data over the whole run: %.2f ms\n", capture.longest_gap_us() / 1000.0);
         return 0;
     }

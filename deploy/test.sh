@@ -49,10 +49,12 @@ failed=0
 failures=$(mktemp -d /tmp/ecpair-test-failures.XXXXXX)
 trap 'rm -rf "$failures"' EXIT
 
-# The failed assertions in a test log (Catch's "file:line: FAILED:" and the
-# expression with its expansion), for the stage's list.
+# The failed assertions in a test log (Catch's "file:line: FAILED:" with the
+# expression, its expansion and its INFO messages, up to the blank line that
+# ends the block), for the stage's list.
 failed_assertions() {
-  grep -h -A4 -E ':[0-9]+: FAILED:' "$@" 2>/dev/null | grep -v '^--$' | head -40 | sed 's/^/    /' || true
+  awk '/:[0-9]+: FAILED:/ { left = 12 }
+       left > 0 { if ($0 == "") { left = 0; next } print; --left }' "$@" 2>/dev/null | head -60 | sed 's/^/    /' || true
 }
 
 # ctest in a build tree; the names of the tests that failed and their failed

@@ -230,6 +230,12 @@ std::optional<CmfHeader> RedundancyController::note_header(const wire::ConstFram
         }
         heard_ = HeardActive{header->cycle, header->master_state, header->flags, header->sender, same, at};
         ++headers_heard_;
+        // The adapters of the ACTIVE this member follows: its frames after a
+        // hand-off to us are told apart from another master's (foreign_frame).
+        if (same && state_.load() == RedState::Inactive) {
+            const auto source = wire::SourceMac::decode(frame.ethernet().source);
+            followed_nics_[source.redundancy ? 1 : 0] = source.nic;
+        }
     }
     // The acknowledgement follows the newest announcement: withdrawn, it is withdrawn too.
     if (same && header->flags.handoff_request && ready_for_handoff_.load()) {
@@ -361,6 +367,7 @@ PairObservation RedundancyController::observe() const {
     seen.partner_last_answer = partner_last_answer_;
     seen.partner_status = partner_status_;
     seen.foreign_frames = foreign_frames_;
+    seen.followed_master_frames = followed_master_frames_;
     seen.cycles_without_return = master_.cycles_without_return();
     seen.slaves_reached = master_.slaves_reached();
     return seen;
@@ -499,7 +506,14 @@ void RedundancyController::complete(std::uint16_t index, const master::ReturnedC
 
 void RedundancyController::foreign_frame(master::LinkRole, ConstBytes frame) {
     ++foreign_frames_;
-    if (auto view = wire::ConstFrameView::parse(frame)) note_header(*view, std::chrono::steady_clock::now());
+    auto view = wire::ConstFrameView::parse(frame);
+    if (!view) return;
+    const auto nic = wire::SourceMac::decode(view->ethernet().source).nic;
+    {
+        std::lock_guard lock(heard_mutex_);
+        if (followed_nics_[0] == nic || followed_nics_[1] == nic) ++followed_master_frames_;
+    }
+    note_header(*view, std::chrono::steady_clock::now());
 }
 
 RedundancySnapshot RedundancyController::snapshot() const {

@@ -100,7 +100,12 @@ public:
         s.handoff_cycle_low = acknowledged && last.handoff_cycle ? static_cast<std::uint32_t>(*last.handoff_cycle) : 0;
         seen.partner_status = s;
     }
-    void foreign_frames() { ++seen.foreign_frames; }
+    // Another master's frames arrived; `from_followed`: sent by the ACTIVE
+    // this member followed before (the controller knows its adapters).
+    void foreign_frames(bool from_followed = false) {
+        ++seen.foreign_frames;
+        if (from_followed) ++seen.followed_master_frames;
+    }
 
     bool raised(master::EventKind kind) const {
         return std::any_of(got.begin(), got.end(), [kind](const master::Event& e) { return e.kind == kind; });

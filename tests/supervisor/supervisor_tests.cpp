@@ -699,6 +699,114 @@ TEST_CASE("an older CMF without the announcement that arrives late does not canc
     CHECK(h.supervisor.status().counters.handoffs_cancelled == 0);
 }
 
+namespace {
+
+// A standby that took a committed hand-off at `at` from its partner, whose
+// last CMF (H-1) has not arrived: the partner ran late.
+std::unique_ptr<SupervisorHarness> took_handoff(std::uint64_t& at) {
+    auto owner = standing_by();
+    auto& h = *owner;
+    at = h.seen.cycle + 4;
+    h.announced_handoff = at;
+    h.announced_committed = true;
+    while (h.seen.cycle + 1 < at) {  // the CMFs of H-4 .. H-2
+        h.partner_cmf();
+        h.cycle();
+    }
+    h.cycle();  // our boundary H
+    REQUIRE(h.active());
+    REQUIRE(h.seen.cycle == at);
+    return owner;
+}
+
+}  // namespace
+
+TEST_CASE("after a hand-off, the late last cycles of the master that handed over are no collision", "[supervisor]") {
+    std::uint64_t at = 0;
+    auto owner = took_handoff(at);
+    auto& h = *owner;
+    // Its H-1 arrives over our next cycles (our cycle thread catching up
+    // spreads one cycle's frames over several of ours), its CMF among them.
+    for (int i = 0; i < 4; ++i) {
+        h.foreign_frames(true);
+        if (i == 1) {
+            h.partner_cmf();
+            h.seen.heard->cycle = at - 1;
+        }
+        h.cycle();
+        CHECK(h.active());
+    }
+    CHECK_FALSE(h.raised(EventKind::Collision));
+    CHECK(h.supervisor.status().counters.collisions == 0);
+}
+
+TEST_CASE("after a hand-off, a CMF of the master that handed over numbering H or later is a collision",
+          "[supervisor]") {
+    std::uint64_t at = 0;
+    auto owner = took_handoff(at);
+    auto& h = *owner;
+    h.foreign_frames(true);
+    h.partner_cmf();
+    h.seen.heard->cycle = at + 1;  // it did not stop at H
+    h.cycle();
+    h.foreign_frames(true);
+    h.cycle();
+    CHECK(h.active());
+    h.foreign_frames(true);
+    h.cycle();
+    CHECK_FALSE(h.active());
+    CHECK(h.state() == SupervisorState::BackingOff);
+    CHECK(h.raised(EventKind::Collision));
+}
+
+TEST_CASE("after a hand-off, another master's frames are a collision as ever", "[supervisor]") {
+    std::uint64_t at = 0;
+    auto owner = took_handoff(at);
+    auto& h = *owner;
+    for (int i = 0; i < 3; ++i) {
+        h.foreign_frames(false);
+        if (i == 1) h.foreign_frames(true);  // the master that handed over's with them: the cycle still counts
+        h.cycle();
+    }
+    CHECK(h.state() == SupervisorState::BackingOff);
+}
+
+TEST_CASE("the master that handed over is excused only until it answers as our standby, and the settle time more",
+          "[supervisor]") {
+    std::uint64_t at = 0;
+    SECTION("it answers") {
+        auto owner = took_handoff(at);
+        auto& h = *owner;
+        h.partner_answer();
+        h.cycle();
+        h.cycles(5);  // the settle time: collision_cycles + 2 = 5 cycles
+        CHECK(h.active());
+        h.foreign_frames(true);
+        h.cycle();  // 6 ms after its answer: its frames count again
+        h.foreign_frames(true);
+        h.cycle();
+        h.foreign_frames(true);
+        h.cycle();
+        CHECK(h.state() == SupervisorState::BackingOff);
+    }
+    SECTION("it never answers: comm_timeout after H at most") {
+        auto owner = took_handoff(at);
+        auto& h = *owner;
+        for (int i = 0; i < 50; ++i) {
+            h.foreign_frames(true);
+            h.cycle();
+            REQUIRE(h.active());
+        }
+        h.foreign_frames(true);
+        h.cycle();
+        h.foreign_frames(true);
+        h.cycle();
+        h.foreign_frames(true);
+        h.cycle();
+        CHECK(h.state() == SupervisorState::BackingOff);
+    }
+}
+
 TEST_CASE("a forced standby does not acknowledge a hand-off", "[supervisor]") {
     auto owner = standing_by();
     auto& h = *owner;

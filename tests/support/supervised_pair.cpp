@@ -57,6 +57,11 @@ int SupervisedPair::settled(std::chrono::milliseconds timeout) {
                              member(0).log() + "\nm2:\n" + member(1).log());
 }
 
+std::uint64_t SupervisedPair::settled_cycle() {
+    const int active = settled();
+    return member(1 - active).status().redundancy().mirrored_cycle();
+}
+
 int SupervisedPair::active_count() {
     int n = 0;
     for (int i = 0; i < 2; ++i) {

@@ -50,6 +50,12 @@ public:
     // Waits (bounded) until one member drives the slaves in OP and the other
     // is its hot standby; the ACTIVE's index. Throws with both logs otherwise.
     int settled(std::chrono::milliseconds timeout = std::chrono::seconds(30));
+    // Waits until settled(); the ACTIVE's cycle as its hot standby last
+    // mirrored it. At start-up both members may take the bus at once and
+    // number cycles alike, or leave numbers out, until the collision is
+    // resolved (by design, docs/ARBITRATION.md): a check that every cycle was
+    // numbered by exactly one master starts here.
+    std::uint64_t settled_cycle();
     // The members ACTIVE now (of those running).
     int active_count();
 

@@ -81,9 +81,13 @@ namespace {
 
 // The other master's last frames after a collision: its own detection takes
 // collision_cycles, and what it sent meanwhile is still on the way.
+std::chrono::nanoseconds settle_time(const SupervisorOptions& options) {
+    return (options.collision_cycles + 2) * options.cycle_time;
+}
+
 arbitration::ArbiterOptions with_settle_time(const SupervisorOptions& options) {
     auto arbitration = options.arbitration;
-    arbitration.settle_time = (options.collision_cycles + 2) * options.cycle_time;
+    arbitration.settle_time = settle_time(options);
     return arbitration;
 }
 
@@ -171,6 +175,7 @@ void Supervisor::take_bus(const Observation& seen, std::string why) {
     partner_seen_ = false;
     returns_reported_ = false;
     foreign_cycles_ = 0;
+    handed_over_.reset();
     announcement_.reset();
     pending_handoff_.reset();
     no_active_.reset();
@@ -266,6 +271,7 @@ redundancy::RoleDecision Supervisor::decide(const Observation& seen) {
     cmfs_seen_ = seen.cmfs_completed;
     answers_seen_ = seen.partner_answers;
     foreign_seen_ = seen.foreign_frames;
+    followed_frames_seen_ = seen.followed_master_frames;
 
     redundancy::RoleDecision decision;
     decision.role = role_;
@@ -426,6 +432,7 @@ void Supervisor::on_handoff_pending(const Observation& seen) {
         take_bus(seen, fmt::format("switchover: taking over at cycle {} as announced{}{}", h,
                                    seen.mirrored_cycle + 1 >= h ? "" : " (the ACTIVE's last CMF did not arrive)",
                                    seen.cycle > h ? fmt::format(", {} cycle(s) late", seen.cycle - h) : ""));
+        handed_over_ = HandedOver{h, seen.now, std::nullopt, false};
         return;
     }
     if (comm_.expired()) partner_silent(seen);
@@ -494,8 +501,40 @@ void Supervisor::watch_returns(const Observation& seen) {
 }
 
 bool Supervisor::collision_seen(const Observation& seen) {
-    foreign_cycles_ = seen.foreign_frames != foreign_seen_ ? foreign_cycles_ + 1 : 0;
+    const auto foreign = seen.foreign_frames - foreign_seen_;
+    const bool only_previous_active = foreign == seen.followed_master_frames - followed_frames_seen_;
+    bool counts = foreign != 0;
+    if (previous_active_finishing(seen) && counts && only_previous_active) {
+        counts = false;
+        if (!std::exchange(handed_over_->reported, true)) {
+            // Common (its H-1 is often on its way at our boundary H): not an operator's matter.
+            log()->debug("cycle {}: frames of the master that handed the bus over at cycle {} still arrive (its last "
+                         "cycles, on their way or sent late): not counted as a collision",
+                         cycle_, handed_over_->cycle);
+        }
+    }
+    foreign_cycles_ = counts ? foreign_cycles_ + 1 : 0;
     return foreign_cycles_ >= options_.collision_cycles;
+}
+
+// The master that handed the bus over at H sends until its own boundary H:
+// when it ran late (a stall), its last cycles reach us after our first ones.
+// Its frames are no collision while it may still be finishing: until it
+// answers as our standby, and a collision's settle time more for frames on
+// their way, at most comm_timeout after H. A CMF of it numbering H or later
+// says it did not stop: that is a collision like any other.
+bool Supervisor::previous_active_finishing(const Observation& seen) {
+    if (!handed_over_) return false;
+    auto& h = *handed_over_;
+    if (!h.answered_at && seen.partner_answers != answers_seen_) h.answered_at = seen.now;
+    const bool numbers_ours = seen.headers_heard != headers_seen_ && seen.heard && seen.heard->cycle >= h.cycle;
+    auto until = h.at + options_.comm_timeout;
+    if (h.answered_at) until = std::min(until, *h.answered_at + settle_time(options_));
+    if (numbers_ours || seen.now > until) {
+        handed_over_.reset();
+        return false;
+    }
+    return true;
 }
 
 std::optional<master::HandOffRefusal> Supervisor::refusal(const Observation& seen) const {

@@ -51,6 +51,7 @@
 #include "ecpair/redundancy/pair_parameters.hpp"
 #include "ecpair/redundancy/role_decider.hpp"
 #include "ecpair/redundancy/store_and_forward.hpp"
+#include "ecpair/wire/source_mac.hpp"
 
 namespace ecpair::redundancy {
 
@@ -209,6 +210,7 @@ private:
     std::optional<SteadyTime> partner_last_answer_;
     std::optional<CmfStandbyStatus> partner_status_;
     std::uint64_t foreign_frames_ = 0;
+    std::uint64_t followed_master_frames_ = 0;  // of those, sent by an adapter in followed_nics_
     std::unique_ptr<MirroredCycle> mirrored_;  // the newest mirrored cycle taken
     std::vector<master::SlaveStateEntry> slaves_;
     std::vector<std::uint8_t> master_pd_out_;
@@ -230,6 +232,8 @@ private:
     mutable std::mutex heard_mutex_;
     std::optional<HeardActive> heard_;
     std::uint64_t headers_heard_ = 0;
+    // The NIC bytes of the followed ACTIVE's MAIN [0] and RED [1] adapters, from its CMFs.
+    std::array<std::optional<wire::NicBytes>, 2> followed_nics_;
     std::optional<link::Clock::time_point> partner_cycle_start_;  // estimated, of heard_'s cycle
     // For snapshot() from other threads.
     mutable std::mutex status_mutex_;

@@ -55,6 +55,9 @@ struct PairObservation {
     std::optional<SteadyTime> partner_last_answer;
     std::optional<CmfStandbyStatus> partner_status;  // from the newest answer
     std::uint64_t foreign_frames = 0;                // frames of another master received while sending; counts up
+    // Of those, the frames sent by the adapters of the ACTIVE this member
+    // last followed as INACTIVE (after a hand-off: the master that handed over).
+    std::uint64_t followed_master_frames = 0;
     std::uint64_t cycles_without_return = 0;         // cycles in a row none of our frames came back
     std::optional<std::uint16_t> slaves_reached;     // BRD WKC of the last complete cycle
 };

@@ -24,7 +24,9 @@
 //               age of its last answer) and whether its frames come back
 //               -> both links down: INACTIVE, ISOLATED
 //               -> another master sends too (foreign source MAC in a few
-//                  cycles running, or its CMF): BACKING_OFF
+//                  cycles running, or its CMF): BACKING_OFF; after a
+//                  hand-off, the last cycles of the master that handed over
+//                  (sent late, before its H) are not counted
 //               -> switchover asked (here, by the partner, or by forcing
 //                  this member to standby) and the partner is a hot
 //                  standby: HANDING_OVER
@@ -161,6 +163,7 @@ private:
     void watch_partner(const Observation& seen);
     void watch_returns(const Observation& seen);
     bool collision_seen(const Observation& seen);
+    bool previous_active_finishing(const Observation& seen);
     void partner_silent(const Observation& seen);
     std::optional<master::HandOffRefusal> refusal(const Observation& seen) const;
     void start_handoff(const Observation& seen);
@@ -187,7 +190,17 @@ private:
     std::uint64_t cmfs_seen_ = 0;
     std::uint64_t answers_seen_ = 0;
     std::uint64_t foreign_seen_ = 0;
+    std::uint64_t followed_frames_seen_ = 0;
     std::uint32_t foreign_cycles_ = 0;
+    // ACTIVE after taking a hand-off at H: the master that handed over may
+    // still be sending its last cycles (before H) when it ran late.
+    struct HandedOver {
+        std::uint64_t cycle = 0;                // H
+        SteadyTime at{};                        // our boundary H
+        std::optional<SteadyTime> answered_at;  // its first answer as our standby
+        bool reported = false;                  // its late frames logged
+    };
+    std::optional<HandedOver> handed_over_;
     bool partner_seen_ = false;
     bool returns_reported_ = false;
     std::uint64_t takeover_cycle_ = 0;  // when this master last became ACTIVE after a partner's failure
