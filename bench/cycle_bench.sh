@@ -15,6 +15,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 source deploy/lib/topology.sh
 source bench/status_figures.sh
+source bench/process_cpu.sh
 cycle_us=${1:-1000}
 seconds=${2:-600}
 bin=${ECPAIR_BUILD_DIR:-$(pwd)/build}
@@ -28,7 +29,6 @@ cleanup() {
 }
 trap cleanup EXIT
 
-ticks() { awk '{print $14 + $15}' "/proc/$1/stat"; }  # utime + stime of a process
 
 slaves=${ECPAIR_BENCH_SLAVES:-33}
 "$bin/sim/generator/ecsim-make-eni" --slaves "$slaves" --input-bytes 76 --output-bytes 76 --cycle-us "$cycle_us" -o "$work/bench.xml"
@@ -63,16 +63,14 @@ for _ in $(seq ${ECPAIR_BENCH_OP_WAIT:-300}); do in_op && break; sleep 0.1; done
 in_op || { echo "did not reach OP"; cat "$work/ecpaird.log"; exit 1; }
 
 start_status=$(status)
-start_daemon=$(ticks "$daemon_pid"); start_sim=$(ticks "$ecsim_pid"); start=$(date +%s.%N)
+start_daemon=$(process_sample "$daemon_pid"); start_sim=$(process_sample "$ecsim_pid"); start=$(date +%s.%N)
 sleep "$seconds"
-end_daemon=$(ticks "$daemon_pid"); end_sim=$(ticks "$ecsim_pid"); end=$(date +%s.%N)
+end_daemon=$(process_sample "$daemon_pid"); end_sim=$(process_sample "$ecsim_pid"); end=$(date +%s.%N)
 end_status=$(status)
 
-hz=$(getconf CLK_TCK)
-cpu() { awk -v a="$1" -v b="$2" -v hz="$hz" -v s="$start" -v e="$end" 'BEGIN { printf "%.1f%%", (b - a) / hz / (e - s) * 100 }'; }
 
 echo "cycle ${cycle_us} µs, ${seconds} s in OP, $slaves slaves, $(( slaves * 152 )) bytes of process data, cable redundancy $cable_redundancy"
 print_cycle_figures
 grep -E 'loopback' <<<"$end_status" | sed 's/^ */  /'
-echo "  CPU ecpaird:      $(cpu "$start_daemon" "$end_daemon") of one core"
-echo "  CPU ecsim:        $(cpu "$start_sim" "$end_sim") of one core"
+echo "  CPU ecpaird:      $(process_cpu_figures "$start_daemon" "$end_daemon" "$start" "$end")"
+echo "  CPU ecsim:        $(process_cpu_figures "$start_sim" "$end_sim" "$start" "$end")"

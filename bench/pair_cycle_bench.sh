@@ -18,6 +18,7 @@ source deploy/lib/topology.sh
 source deploy/lib/pair_member.sh
 source bench/pair_bench_lib.sh
 source bench/status_figures.sh
+source bench/process_cpu.sh
 export PAIR_CYCLE_US=${1:-1000}
 seconds=${2:-20}
 export PAIR_FORWARDING=${3:-AUTO}
@@ -42,15 +43,22 @@ pair_bench_wait_for "$work/m2.sock" "partner seen, mirrored"
 sleep 1
 
 start_status=$("$ctl" status --socket "$work/m1.sock")
+start_m1=$(process_sample "$m1"); start_m2=$(process_sample "$m2"); start_sim=$(process_sample "$sim")
 from_us=$(date +%s%6N)
 sleep "$seconds"
 to_us=$(date +%s%6N)
+end_m1=$(process_sample "$m1"); end_m2=$(process_sample "$m2"); end_sim=$(process_sample "$sim")
 end_status=$("$ctl" status --socket "$work/m1.sock")
+seconds_of() { awk -v us="$1" 'BEGIN { printf "%.6f", us / 1e6 }'; }
+cpu_of() { process_cpu_figures "$1" "$2" "$(seconds_of "$from_us")" "$(seconds_of "$to_us")"; }
 forwarding=$("$ctl" status --socket "$work/m2.sock" | grep -o "store-and-forward ([a-z ]*)" || echo "store-and-forward (?)")
 
 echo "the pair at ${PAIR_CYCLE_US} µs, ${seconds} s in OP, m2 $forwarding, load average $(cut -d' ' -f1-3 /proc/loadavg)"
 echo " m1 (ACTIVE):"
 print_cycle_figures
+echo " CPU m1 (ACTIVE):   $(cpu_of "$start_m1" "$end_m1")"
+echo " CPU m2 (INACTIVE): $(cpu_of "$start_m2" "$end_m2")"
+echo " CPU ecsim:         $(cpu_of "$start_sim" "$end_sim")"
 kill "$sim"; wait "$sim" 2>/dev/null || true; sim=
 echo " at the slaves (cyclic frames entering the segment):"
 "$bin/bench/ecpair-capture-analysis" cadence "$work/segment.pcap" "$from_us" "$to_us" "$PAIR_CYCLE_US" | sed 's/^/  /'

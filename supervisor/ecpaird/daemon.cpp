@@ -107,8 +107,11 @@ int Daemon::open() {
     master::CycleThreadOptions cycle;
     cycle.period = master_->options().cycle_time;
     cycle.realtime_priority = settings_.realtime_priority;
-    cycle_thread_ = std::make_unique<master::CycleThread>(
-        cycle, [this](link::Clock::time_point deadline) { master_->run_cycle(deadline); });
+    cycle_thread_ = std::make_unique<master::CycleThread>(cycle, [this](link::Clock::time_point deadline) {
+        if (reception_) reception_->before_cycle();
+        master_->run_cycle(deadline);
+        if (reception_) reception_->after_cycle();
+    });
     // A standby runs its cycle in step with the ACTIVE partner's.
     if (redundancy_) cycle_thread_->set_phase_reference([this] { return redundancy_->phase_reference(); });
 
@@ -133,26 +136,9 @@ int Daemon::open() {
 }
 
 void Daemon::start_threads() {
-    auto add_receiver = [this](link::Link& link, master::LinkRole role) {
-        receive_threads_.push_back(std::make_unique<master::ReceiveThread>(
-            link,
-            [this, role](ConstBytes frame, link::Clock::time_point at) {
-                if (redundancy_) {
-                    redundancy_->on_frame(role, frame, at);
-                } else {
-                    master_->on_frame(role, frame, at);
-                }
-            },
-            fmt::format("ecpair-rx-{}", role == master::LinkRole::Main ? "main" : "red"),
-            // Just below the cycle: returned frames must be in the ring before the next cycle.
-            std::max(settings_.realtime_priority - 1, 0)));
-        receive_threads_.back()->start();
-    };
-    if (!master_->options().receive_in_cycle) {
-        add_receiver(*main_link_, master::LinkRole::Main);
-        if (red_link_) add_receiver(*red_link_, master::LinkRole::Red);
-    }
-
+    // A single master reads its links in its cycle (receive_in_cycle); a
+    // pair member's receive threads take frames while it forwards in user space.
+    if (reception_) reception_->start();
     cycle_thread_->start();
     if (tap_bridge_) tap_bridge_->start();
 
@@ -168,7 +154,7 @@ void Daemon::stop_threads() {
     state_machine_.reset();  // cancels a running sequence (its requests fail when the cycle stops)
     hot_connect_.reset();
     if (cycle_thread_) cycle_thread_->stop();
-    for (auto& r : receive_threads_) r->stop();
+    if (reception_) reception_->stop();
     if (tap_bridge_) tap_bridge_->stop();
     if (event_thread_.joinable()) event_thread_.join();
 }
@@ -256,6 +242,9 @@ int Daemon::open_redundancy() {
         return kLinkFailure;
     }
     redundancy_->set_kernel_forwarding(std::move(*forwarding));
+    // Just below the cycle: a frame to forward must leave before anything else.
+    reception_ = std::make_unique<redundancy::PairReception>(*main_link_, *red_link_, *redundancy_,
+                                                             std::max(settings_.realtime_priority - 1, 0));
     return kOk;
 }
 

@@ -24,7 +24,7 @@
 #include "ecpair/master/cycle_thread.hpp"
 #include "ecpair/master/event_describer.hpp"
 #include "ecpair/master/master.hpp"
-#include "ecpair/master/receive_thread.hpp"
+#include "ecpair/redundancy/pair_reception.hpp"
 #include "ecpair/redundancy/redundancy_controller.hpp"
 #include "ecpair/redundancy/topology_verifier.hpp"
 #include "ecpair/sequencer/master_state_machine.hpp"
@@ -89,7 +89,7 @@ private:
     std::unique_ptr<supervisor::Supervisor> supervisor_;            // decides the pair member's role
     std::unique_ptr<redundancy::TopologyVerifier> topology_verifier_;
     std::unique_ptr<master::CycleThread> cycle_thread_;
-    std::vector<std::unique_ptr<master::ReceiveThread>> receive_threads_;
+    std::unique_ptr<redundancy::PairReception> reception_;  // only in a redundant pair
 
     boost::asio::io_context io_;
     static constexpr std::chrono::seconds kSequenceRetry{2};

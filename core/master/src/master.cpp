@@ -20,6 +20,7 @@
 #include <fmt/format.h>
 
 #include "ecpair/common/log.hpp"
+#include "ecpair/master/link_drain.hpp"
 #include "ecpair/wire/esc_registers.hpp"
 #include "ecpair/wire/source_mac.hpp"
 #include "cycle_batches.hpp"
@@ -220,17 +221,8 @@ void Master::accept_returned_frames() {
 void Master::receive_from_links() {
     for (const LinkRole role : {LinkRole::Main, LinkRole::Red}) {
         if (role == LinkRole::Red && red_ == nullptr) continue;
-        link::Link& from = link(role);
-        for (std::size_t n = 0; n < kMaxReceivedPerCycle; ++n) {
-            auto received = from.try_receive(rx_);
-            if (!received) {
-                // A failing link (interface going down): the next cycle tries again.
-                logger("master")->debug("{}: {}", from.name(), received.error().message);
-                break;
-            }
-            if (!*received) break;
-            accept_copy(role, ConstBytes(rx_.data(), (*received)->size));
-        }
+        drain_link(link(role), rx_, kMaxReceivedPerCycle,
+                   [this, role](ConstBytes frame, link::Clock::time_point) { accept_copy(role, frame); });
     }
 }
 

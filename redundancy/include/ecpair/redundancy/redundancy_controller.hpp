@@ -135,8 +135,15 @@ public:
     // forwards. Set before frames flow.
     void set_kernel_forwarding(std::unique_ptr<KernelForwarding> kernel);
 
-    // ---- receive threads: every frame of a link goes through here
+    // ---- every frame of a link goes through here: from its receive thread,
+    // or from the cycle thread reading the link once a cycle (PairReception)
     void on_frame(master::LinkRole arrived_on, ConstBytes frame, link::Clock::time_point received_at);
+    // INACTIVE with StoreAndForward in user space: every frame needs its
+    // reaction (forwarding) the moment it arrives.
+    bool forwards_in_user_space() const {
+        return state_.load(std::memory_order_acquire) == RedState::Inactive &&
+               !kernel_forwarding_.load(std::memory_order_acquire);
+    }
     void set_link_state(master::LinkRole role, bool up);
 
     // ---- cycle thread (the application's hook)

@@ -1,14 +1,15 @@
 #pragma once
 // The master engine, driven by a cycle (the JobTask, design.md §4). Every
-// cycle: take the frames that came back since the last cycle (receive
-// threads hand them over through lock-free rings), merge the MAIN and RED
+// cycle: take the frames that came back since the last cycle (read from the
+// links, or handed over through lock-free rings), merge the MAIN and RED
 // copies, move inputs into the process image and check working counters;
 // run the application's cycle hook; send this cycle's cyclic frames, the
 // extension's frames (redundancy) and a bounded number of acyclic frames.
 //
-// Threads: run_cycle() on the cycle thread only; on_frame() on one receive
-// thread per link; everything else is safe from any thread and takes effect
-// at the next cycle boundary.
+// Threads: run_cycle() on the cycle thread only; on_frame() by one thread
+// per link at a time (its receive thread, or the cycle thread reading the
+// link); everything else is safe from any thread and takes effect at the
+// next cycle boundary.
 
 #include <atomic>
 #include <chrono>
@@ -42,11 +43,10 @@ struct MasterOptions {
     bool split_lrw = false;         // with cable redundancy: LRW -> LWR + LRD
     std::size_t max_acyclic_frames_per_cycle = 2;
     // The cycle thread reads the links itself at the start of each cycle
-    // (accept_returned_frames) instead of taking what receive threads put
-    // into its rings: for a master that nothing asks to react to a frame
-    // before the next cycle (no pair partner to forward for, no TAP bridge),
-    // so that it wakes once a cycle, not once a frame. on_frame must not be
-    // used then.
+    // (accept_returned_frames) instead of taking what on_frame put into its
+    // rings: a single master, so that it wakes once a cycle, not once a
+    // frame. A pair member's links are read by its PairReception (redundancy),
+    // which calls on_frame. on_frame must not be used with this.
     bool receive_in_cycle = false;
 };
 
@@ -102,7 +102,7 @@ public:
     void run_cycle(link::Clock::time_point now);
     ProcessImage& image() { return image_; }
 
-    // ---- receive threads
+    // ---- one producer per link (see above)
     void on_frame(LinkRole arrived_on, ConstBytes frame, link::Clock::time_point received_at);
 
     // ---- any thread
