@@ -16,13 +16,15 @@
 //       double line break, or a collision) are one "two masters" period,
 //       not a series of takeovers; a single frame of one master amid the
 //       other's is reported as a stray frame.
-//   cadence SEGMENT.pcap FROM_US TO_US CYCLE_US
+//   cadence SEGMENT.pcap FROM_US TO_US CYCLE_US [stretches]
 //       The cyclic frames at the slaves in a time window (Unix µs), for the
 //       Hot-Connect benchmark: the MAIN copies of process-data frames as they
 //       entered the segment (source MAC byte 0 without the slave-forwarding
 //       and redundancy bits), their largest gap and the cycles missing (a gap
 //       of k cycles misses k-1); and the WKCs of their LRD datagrams as they
-//       came out processed (bit 0x02 set), lowest and highest.
+//       came out processed (bit 0x02 set), lowest and highest. With
+//       `stretches` after CYCLE_US: how many stretches were longer than 5
+//       cycles, then a line "stretch END_US LENGTH_US" each.
 
 #include <pcap/pcap.h>
 
@@ -155,7 +157,7 @@ bool carries_process_data(const Frame& f) {
     });
 }
 
-int cadence(const std::string& file, double from_us, double to_us, double cycle_us) {
+int cadence(const std::string& file, double from_us, double to_us, double cycle_us, bool list_stretches) {
     const auto frames = read(file);
     std::vector<double> entered;
     int wkc_min = -1;
@@ -178,14 +180,20 @@ int cadence(const std::string& file, double from_us, double to_us, double cycle_
     }
     double largest = 0;
     long missing = 0;
+    std::vector<std::pair<double, double>> stretches;  // longer than 5 cycles: (end in Unix µs, length)
     for (std::size_t i = 1; i < entered.size(); ++i) {
         const double gap = entered[i] - entered[i - 1];
         largest = std::max(largest, gap);
         const long cycles = std::lround(gap / cycle_us);
         if (cycles > 1) missing += cycles - 1;
+        if (gap > 5 * cycle_us) stretches.emplace_back(entered[i], gap);
     }
     std::printf("frames %zu in %.1f ms, largest gap %.0f us, cycles missing %ld, LRD WKC %d..%d\n", entered.size(),
                 (to_us - from_us) / 1000.0, largest, missing, wkc_min, wkc_max);
+    if (list_stretches) {
+        std::printf("stretches without process data longer than 5 cycles: %zu\n", stretches.size());
+        for (const auto& [end, length] : stretches) std::printf("stretch %.0f %.0f\n", end, length);
+    }
     return entered.empty() ? 1 : 0;
 }
 
@@ -195,10 +203,12 @@ int main(int argc, char** argv) {
     const std::string mode = argc > 1 ? argv[1] : "";
     if (mode == "delay" && argc == 4) return delay(argv[2], argv[3]);
     if (mode == "gaps" && (argc == 3 || argc == 4)) return gaps(argv[2], argc == 4 ? std::atof(argv[3]) : 0.0);
-    if (mode == "cadence" && argc == 6) return cadence(argv[2], std::atof(argv[3]), std::atof(argv[4]), std::atof(argv[5]));
+    if (mode == "cadence" && (argc == 6 || (argc == 7 && std::string(argv[6]) == "stretches"))) {
+        return cadence(argv[2], std::atof(argv[3]), std::atof(argv[4]), std::atof(argv[5]), argc == 7);
+    }
     std::fprintf(stderr,
                  "usage: %s delay IN.pcap OUT.pcap | gaps SEGMENT.pcap [CYCLE_US] | cadence SEGMENT.pcap FROM_US TO_US "
-                 "CYCLE_US\n",
+                 "CYCLE_US [stretches]\n",
                  argv[0]);
     return 2;
 }

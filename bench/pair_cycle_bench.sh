@@ -42,6 +42,10 @@ pair_bench_wait_for "$work/m1.sock" "master OP"
 pair_bench_wait_for "$work/m2.sock" "partner seen, mirrored"
 sleep 1
 
+# m1's events of the run as they happen: its cycle stalls (cycle-stall) go
+# beside the stretches the slaves went without process data.
+"$ctl" events --json --for "$((seconds + 2))" --socket "$work/m1.sock" >"$work/m1-events.jsonl" 2>/dev/null &
+events_pid=$!
 start_status=$("$ctl" status --socket "$work/m1.sock")
 start_m1=$(process_sample "$m1"); start_m2=$(process_sample "$m2"); start_sim=$(process_sample "$sim")
 from_us=$(date +%s%6N)
@@ -61,4 +65,22 @@ echo " CPU m2 (INACTIVE): $(cpu_of "$start_m2" "$end_m2")"
 echo " CPU ecsim:         $(cpu_of "$start_sim" "$end_sim")"
 kill "$sim"; wait "$sim" 2>/dev/null || true; sim=
 echo " at the slaves (cyclic frames entering the segment):"
-"$bin/bench/ecpair-capture-analysis" cadence "$work/segment.pcap" "$from_us" "$to_us" "$PAIR_CYCLE_US" | sed 's/^/  /'
+"$bin/bench/ecpair-capture-analysis" cadence "$work/segment.pcap" "$from_us" "$to_us" "$PAIR_CYCLE_US" stretches \
+  >"$work/cadence.txt"
+grep -v '^stretch ' "$work/cadence.txt" | sed 's/^/  /'
+wait "$events_pid" 2>/dev/null || true
+# Each stretch beside the stall of m1's cycle thread that ended with it (the
+# event is raised when the cycle runs again, when the frames resume): its
+# wake-up latency and the deadlines it skipped; or none.
+{ grep '"kind":"cycle-stall"' "$work/m1-events.jsonl" || true; } |
+  sed -E 's/.*"unix_time_ms":([0-9]+).*"text":"[^"]*: ([0-9]+) cycle deadline\(s\)[^"]*woke ([0-9]+) .*/\1 \2 \3/' >"$work/stalls.txt"
+awk -v cycle_us="$PAIR_CYCLE_US" 'FILENAME == ARGV[1] { ++n; at[n] = $1 * 1000; skipped[n] = $2; late[n] = $3; next }
+  /^stretch / {
+    best = 0
+    for (i = 1; i <= n; ++i) {
+      d = at[i] - $2; if (d < 0) d = -d
+      if (d <= 2 * cycle_us + 1000 && (best == 0 || d < bestd)) { best = i; bestd = d }
+    }
+    if (best) printf "  stretch of %.0f us (%.1f cycles): m1 stalled, woke %d us late, %d deadlines skipped\n", $3, $3 / cycle_us, late[best], skipped[best]
+    else printf "  stretch of %.0f us (%.1f cycles): no stall of m1 beside it\n", $3, $3 / cycle_us
+  }' "$work/stalls.txt" "$work/cadence.txt"

@@ -114,6 +114,11 @@ int Daemon::open() {
     });
     // A standby runs its cycle in step with the ACTIVE partner's.
     if (redundancy_) cycle_thread_->set_phase_reference([this] { return redundancy_->phase_reference(); });
+    cycle_thread_->set_stall_listener([this](std::chrono::nanoseconds late, std::uint64_t skipped) {
+        const auto late_us = std::chrono::duration_cast<std::chrono::microseconds>(late).count();
+        events_.push(master::Event{master::EventKind::CycleStall, master_->cycle(), std::chrono::system_clock::now(),
+                                   static_cast<std::uint32_t>(late_us), static_cast<std::uint32_t>(skipped), 0, 0});
+    });
 
     operator_service_ = std::make_unique<OperatorService>(settings_, *master_, *state_machine_, *cycle_thread_, *demo_,
                                                           redundancy_.get(), supervisor_.get(), *hot_connect_service_);

@@ -85,6 +85,10 @@ void CycleThread::run() {
             skipped = static_cast<std::uint64_t>((finished - deadline) / options_.period) + 1;
             deadline += options_.period * static_cast<std::int64_t>(skipped);
         }
+        // The deadlines passed while it woke late or ran long: skipped.
+        if (skipped >= options_.stall_cycles && stall_listener_) {
+            stall_listener_(std::chrono::duration_cast<std::chrono::nanoseconds>(latency), skipped);
+        }
         std::lock_guard lock(timing_mutex_);
         ++timing_.cycles;
         if (latency > options_.late_threshold) ++timing_.late;

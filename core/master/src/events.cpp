@@ -239,6 +239,7 @@ std::string_view to_string(EventKind kind) {
         case EventKind::HotConnectAcceptPending: return "hot-connect-accept-pending";
         case EventKind::SlaveIdentificationUpdated: return "slave-identification-updated";
         case EventKind::PortLoopChanged: return "port-loop-changed";
+        case EventKind::CycleStall: return "cycle-stall";
         case EventKind::CommTimeout: return "comm-timeout";
         case EventKind::AllLinksLost: return "all-links-lost";
         case EventKind::LinksRestored: return "links-restored";
@@ -335,6 +336,11 @@ std::string describe(const Event& e) {
         case EventKind::PortLoopChanged:
             return prefix + fmt::format("station {} port {}: {} ({})", e.a, static_cast<char>('A' + (e.b & 3)),
                                         loop_text(e.c), port_reason_text(e.d));
+        case EventKind::CycleStall:
+            return prefix + fmt::format("{} cycle deadline(s) passed without a cycle (the cycle thread woke {} µs "
+                                        "late, then caught up): the machine did not run it in time (other "
+                                        "processes or the host); nothing was sent meanwhile",
+                                        e.b, e.a);
         case EventKind::CommTimeout: return prefix + comm_timeout_text(e);
         case EventKind::AllLinksLost:
             return prefix + (e.a != 0 ? std::string("all links lost (MAIN and RED down): this ACTIVE master becomes "

@@ -9,7 +9,9 @@
 //
 // Timing is measured as it goes: how late each wake-up was (a histogram with
 // 1 µs buckets), how many cycles started late, how many were skipped because
-// the previous one overran.
+// the previous one overran. A stall (stall_cycles deadlines or more missed in
+// a row: the machine did not run the thread, or a cycle overran) is also
+// told as it happens, to a StallListener.
 
 #include <array>
 #include <atomic>
@@ -32,6 +34,8 @@ struct CycleThreadOptions {
     // A cycle that wakes later than this after its deadline counts as late.
     std::chrono::nanoseconds late_threshold{0};  // 0: a quarter of the period
     std::string name = "ecpair-cycle";
+    // This many deadlines missed in a row are a stall (StallListener).
+    std::uint64_t stall_cycles = 4;
 };
 
 struct CycleTiming {
@@ -50,6 +54,9 @@ public:
     using Body = std::function<void(link::Clock::time_point deadline)>;
     // A boundary of the schedule to follow, asked after every cycle; nullopt: run free.
     using PhaseReference = std::function<std::optional<link::Clock::time_point>()>;
+    // On the cycle thread after a stall: how late the cycle woke, and the
+    // deadlines it skipped (late wake-up and run together; it must not block).
+    using StallListener = std::function<void(std::chrono::nanoseconds wake_latency, std::uint64_t missed)>;
 
     CycleThread(CycleThreadOptions options, Body body);
     ~CycleThread();
@@ -57,6 +64,7 @@ public:
     CycleThread& operator=(const CycleThread&) = delete;
 
     void set_phase_reference(PhaseReference reference) { phase_reference_ = std::move(reference); }
+    void set_stall_listener(StallListener listener) { stall_listener_ = std::move(listener); }  // before start()
     void start();
     void stop();  // waits for the running cycle to finish
     CycleTiming timing() const;
@@ -67,6 +75,7 @@ private:
     CycleThreadOptions options_;
     Body body_;
     PhaseReference phase_reference_;
+    StallListener stall_listener_;
     std::thread thread_;
     std::atomic<bool> stop_{false};
     mutable std::mutex timing_mutex_;

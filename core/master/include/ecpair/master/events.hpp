@@ -65,6 +65,8 @@ enum class EventKind : std::uint8_t {
     HotConnectAcceptPending,     // a = groups waiting for an accept, b = mask of them
     SlaveIdentificationUpdated,  // a = slave index, b = the station alias now (ETG.1020 code 0x0061)
     PortLoopChanged,             // a = station, b = port (0..3), c = loop setting (0 auto .. 3 closed), d = why
+    // The cycle thread (CycleThread's stall): a = µs it woke after its deadline, b = deadlines skipped.
+    CycleStall,
 };
 
 // ---- what the supervisor's events carry (in a..d)
