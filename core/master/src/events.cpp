@@ -339,7 +339,7 @@ std::string describe(const Event& e) {
         case EventKind::CycleStall:
             return prefix + fmt::format("{} cycle deadline(s) passed without a cycle (the cycle thread woke {} µs "
                                         "late, then caught up): the machine did not run it in time (other "
-                                        "processes or the host); nothing was sent meanwhile",
+                                        "processes or the host); no frame of this master's cycle left meanwhile",
                                         e.b, e.a);
         case EventKind::CommTimeout: return prefix + comm_timeout_text(e);
         case EventKind::AllLinksLost:
