@@ -117,9 +117,9 @@ TEST_CASE("slave events name the slave, line breaks name both ends") {
 TEST_CASE("a cycle stall says how many deadlines passed, how late the cycle woke, and why") {
     Fixture f;
     CHECK(f.describer.describe(event(EventKind::CycleStall, 4567, 1099, 4)) ==
-          "cycle 4567: 4 cycle deadline(s) passed without a cycle (the cycle thread woke 1099 µs late, then caught "
-          "up): the machine did not run it in time (other processes or the host); no frame of this master's cycle "
-          "left meanwhile");
+          "cycle 4567: 4 cycle deadline(s) passed without a cycle (it woke 1099 µs after its deadline and ended "
+          "that much later): the machine did not run this master in time (other processes or the host), or the "
+          "cycle ran that long; the skipped cycles sent nothing");
 }
 
 TEST_CASE("events raised outside the cycle thread carry the master's current cycle") {

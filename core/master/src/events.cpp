@@ -337,9 +337,10 @@ std::string describe(const Event& e) {
             return prefix + fmt::format("station {} port {}: {} ({})", e.a, static_cast<char>('A' + (e.b & 3)),
                                         loop_text(e.c), port_reason_text(e.d));
         case EventKind::CycleStall:
-            return prefix + fmt::format("{} cycle deadline(s) passed without a cycle (the cycle thread woke {} µs "
-                                        "late, then caught up): the machine did not run it in time (other "
-                                        "processes or the host); no frame of this master's cycle left meanwhile",
+            return prefix + fmt::format("{} cycle deadline(s) passed without a cycle (it woke {} µs after its "
+                                        "deadline and ended that much later): the machine did not run this master "
+                                        "in time (other processes or the host), or the cycle ran that long; the "
+                                        "skipped cycles sent nothing",
                                         e.b, e.a);
         case EventKind::CommTimeout: return prefix + comm_timeout_text(e);
         case EventKind::AllLinksLost:
