@@ -13,6 +13,17 @@
 #
 #   bash bench/redundancy_bench.sh [SECONDS] [COUNT]   (defaults: 10 10)
 # Needs root and a build in ./build (or ECPAIR_BUILD_DIR).
+#
+# ecsim runs on core 0 and m2 on core 1 (REDBENCH_PIN=0: wherever the
+# scheduler puts them). veth forwards in the sender's context, so the frames
+# coming back from the slaves cross m2's BPF program (or the bridge) on
+# ecsim's core. Unpinned, m2's cycle thread often shares that core, and as a
+# standby it wakes a sixteenth of a cycle after the ACTIVE's cycle start:
+# just as those frames pass. Its timer interrupt (15-20 µs in this VM) lands
+# in the middle of their forwarding, and its cycle (SCHED_FIFO 80) then
+# preempts ecsim's (70) send loop; the bridge run has no m2 and so none of
+# that. On two controllers and a real segment the INACTIVE's cycle never runs
+# on the simulator's core; the pinning makes the bench measure the forwarding.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source deploy/lib/topology.sh
@@ -29,13 +40,19 @@ analysis=$bin/bench/ecpair-capture-analysis
 
 trap pair_bench_cleanup EXIT
 
+sim_pin=()
+if [ "${REDBENCH_PIN:-1}" = 1 ]; then
+  sim_pin=(taskset -c 0)
+  PAIR_M2_CPUS=${PAIR_M2_CPUS:-1}
+fi
+
 capture() {  # ns interface file   (tshark's messages in file.log, shown if it fails)
   ( ip netns exec "$1" tshark -q -i "$2" -f 'ether proto 0x88a4' -a "duration:$seconds" -w "$3" >"$3.log" 2>&1 ||
     { cat "$3.log" >&2; exit 1; } ) &
 }
 
 topology_up "$prefix" pair
-ip netns exec "$prefix-sim" "$bin/sim/segment/ecsim" --eni "$eni" --main-if sim-main --red-if sim-red \
+ip netns exec "$prefix-sim" "${sim_pin[@]}" "$bin/sim/segment/ecsim" --eni "$eni" --main-if sim-main --red-if sim-red \
   --control "$work/ecsim.sock" --pcap "$work/segment.pcap" --realtime-priority 70 --log-level warn >"$work/ecsim.log" 2>&1 &
 sim=$!
 for _ in $(seq 100); do [ -S "$work/ecsim.sock" ] && break; sleep 0.1; done
@@ -44,8 +61,12 @@ PAIR_FORWARDING=USER pair_bench_member m2 INACTIVE; m2=$!
 pair_bench_wait_for "$work/m1.sock" "master OP"
 pair_bench_wait_for "$work/m2.sock" "partner seen, mirrored"
 
+pinned_cores() {  # pid
+  taskset -cp "$1" | sed 's/.*: //'
+}
 saf_delay() {  # path
   echo "== store-and-forward delay of the INACTIVE (m2), $1 path, ${seconds} s at 1 ms"
+  echo "   ecsim on core(s) $(pinned_cores "$sim"), m2 on $(pinned_cores "$m2")"
   "$ctl" status --socket "$work/m2.sock" | grep -o "store-and-forward ([a-z ]*)" | sed 's/^/   /'
   capture "$prefix-m2" m2-red "$work/inactive-red.pcap"; a=$!
   capture "$prefix-m2" m2-main "$work/inactive-main.pcap"; b=$!
@@ -63,7 +84,7 @@ pair_bench_wait_for "$work/m2.sock" "store-and-forward (kernel)"
 saf_delay kernel
 echo "   load average: $(cut -d' ' -f1-3 /proc/loadavg)"
 
-echo "== the same veths joined by a kernel bridge instead of m2"
+echo "== the same veths joined by a kernel bridge instead of m2 (ecsim on core(s) $(pinned_cores "$sim"))"
 kill "$m2"; wait "$m2" 2>/dev/null || true; m2=
 # m2's link guard took its links down as it stopped: up again for the bridge.
 ip -n "$prefix-m2" link set m2-main up
