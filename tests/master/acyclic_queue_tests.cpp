@@ -142,3 +142,57 @@ TEST_CASE("many requests from several workers all complete with their own data",
     for (auto& t : workers) t.join();
     CHECK(good == 80);
 }
+
+TEST_CASE("a caller's requests go out together and each gets its own reply", "[acyclic]") {
+    AcyclicQueue queue(2);
+    FakeCycle cycle(queue, [](int) { return false; });
+    std::vector<bus::DatagramRequest> requests;
+    for (std::uint8_t v = 0; v < 40; ++v) requests.push_back(request(v));
+    const auto replies = queue.exchange_all(requests);
+    REQUIRE(replies.size() == 40);
+    for (std::size_t i = 0; i < replies.size(); ++i) {
+        INFO("request " << i);
+        REQUIRE(replies[i]);
+        CHECK(replies[i]->data[0] == i + 1);
+    }
+    // Queued at once: a full frame of 32 datagrams and one with the other 8.
+    CHECK(cycle.frames() == 2);
+}
+
+TEST_CASE("one caller's requests fail and succeed one by one", "[acyclic]") {
+    AcyclicQueue queue(1);
+    FakeCycle cycle(queue, [](int n) { return n == 0; });  // the first frame is lost, then sent again
+    std::vector<bus::DatagramRequest> requests{request(7, 200ms, 3), request(8, 200ms, 3), request(9, 200ms, 3)};
+    requests[1].data.assign(wire::kMaxDatagramData + 1, 0);
+    const auto replies = queue.exchange_all(requests);
+    REQUIRE(replies.size() == 3);
+    REQUIRE(replies[0]);
+    CHECK(replies[0]->data[0] == 8);
+    REQUIRE_FALSE(replies[1]);
+    CHECK(replies[1].error().code == bus::BusErrc::InvalidRequest);
+    REQUIRE(replies[2]);
+    CHECK(replies[2]->data[0] == 10);
+    CHECK(queue.resent() == 2);
+}
+
+TEST_CASE("a caller's requests are refused together", "[acyclic]") {
+    AcyclicQueue queue(1);
+    queue.refuse(bus::BusErrc::MasterRedStateInactive);
+    const std::vector<bus::DatagramRequest> requests{request(1), request(2)};
+    for (const auto& reply : queue.exchange_all(requests)) {
+        REQUIRE_FALSE(reply);
+        CHECK(reply.error().code == bus::BusErrc::MasterRedStateInactive);
+    }
+}
+
+TEST_CASE("requests a stopped cycle never took time out", "[acyclic]") {
+    AcyclicQueue queue(1);  // no cycle runs
+    const std::vector<bus::DatagramRequest> requests{request(1, 10ms, 0), request(2, 10ms, 0)};
+    const auto replies = queue.exchange_all(requests);
+    REQUIRE(replies.size() == 2);
+    for (const auto& reply : replies) {
+        REQUIRE_FALSE(reply);
+        CHECK(reply.error().code == bus::BusErrc::Timeout);
+        CHECK(reply.error().message == "the cycle did not send the request");
+    }
+}

@@ -1,28 +1,35 @@
-// Each caller owns its Pending on its own stack and sleeps on its condition
-// variable; the queue only holds pointers. The cycle thread takes pointers
-// out under the mutex (a few instructions), builds frames outside it, and on
-// completion copies the reply into the buffer the caller pre-sized, so the
-// cycle thread allocates nothing. A lost frame puts its requests back at the
-// front of the queue until their deadline passes.
+// Each caller owns its Pending nodes (one per request) and sleeps on its
+// Waiter until the last of them is finished; the queue only holds pointers.
+// The cycle thread takes pointers out under the mutex (a few instructions),
+// builds frames outside it, and on completion copies the reply into the
+// buffer the caller pre-sized, so the cycle thread allocates nothing. A lost
+// frame puts its requests back at the front of the queue until their
+// deadline passes. Lock order: the queue's mutex, then a Waiter's.
 
 #include "ecpair/master/acyclic_queue.hpp"
 
 #include <algorithm>
+#include <condition_variable>
 
 #include <fmt/format.h>
 
 namespace ecpair::master {
 
+struct AcyclicQueue::Waiter {
+    std::mutex mutex;
+    std::condition_variable done_cv;
+    std::size_t remaining = 0;  // guarded by mutex: requests not finished yet
+};
+
 struct AcyclicQueue::Pending {
-    bus::DatagramRequest request;
+    const bus::DatagramRequest* request = nullptr;  // the caller's, alive while it waits
     link::Clock::time_point deadline;
     std::uint8_t attempt = 0;
     std::uint8_t index = 0;  // datagram position in its current batch
     bus::DatagramReply reply;
-    std::optional<bus::BusError> error;
+    std::optional<bus::BusError> error;  // guarded by the waiter's mutex, as is done
     bool done = false;
-    std::mutex mutex;
-    std::condition_variable done_cv;
+    Waiter* waiter = nullptr;
 };
 
 AcyclicQueue::AcyclicQueue(std::size_t max_frames_per_cycle) : max_frames_per_cycle_(max_frames_per_cycle) {}
@@ -30,40 +37,72 @@ AcyclicQueue::AcyclicQueue(std::size_t max_frames_per_cycle) : max_frames_per_cy
 AcyclicQueue::~AcyclicQueue() { refuse(bus::BusErrc::Cancelled); }
 
 Expected<bus::DatagramReply, bus::BusError> AcyclicQueue::exchange(const bus::DatagramRequest& request) {
-    if (request.data.size() > wire::kMaxDatagramData) {
-        return unexpected(bus::BusError{bus::BusErrc::InvalidRequest,
-                                        fmt::format("{} bytes do not fit in one datagram", request.data.size())});
+    return std::move(exchange_all(std::span(&request, 1)).front());
+}
+
+std::vector<Expected<bus::DatagramReply, bus::BusError>> AcyclicQueue::exchange_all(
+    std::span<const bus::DatagramRequest> requests) {
+    Waiter waiter;
+    std::vector<Pending> pending(requests.size());
+    const auto now = link::Clock::now();
+    auto last_deadline = now;
+    for (std::size_t i = 0; i < requests.size(); ++i) {
+        Pending& p = pending[i];
+        p.request = &requests[i];
+        p.waiter = &waiter;
+        if (p.request->data.size() > wire::kMaxDatagramData) {
+            p.error = bus::BusError{bus::BusErrc::InvalidRequest,
+                                    fmt::format("{} bytes do not fit in one datagram", p.request->data.size())};
+            p.done = true;
+            continue;
+        }
+        p.reply.data.assign(p.request->data.size(), 0);
+        p.deadline = now + p.request->timeout * (p.request->retries + 1);
+        last_deadline = std::max(last_deadline, p.deadline);
+        ++waiter.remaining;
     }
-    Pending pending;
-    pending.request = request;
-    pending.reply.data.assign(request.data.size(), 0);
-    pending.deadline = link::Clock::now() + request.timeout * (request.retries + 1);
     {
         std::lock_guard lock(mutex_);
-        if (refusal_) {
-            return unexpected(bus::BusError{*refusal_, std::string(bus::to_string(*refusal_))});
+        for (Pending& p : pending) {
+            if (p.done) continue;
+            if (refusal_) {
+                p.error = bus::BusError{*refusal_, std::string(bus::to_string(*refusal_))};
+                p.done = true;
+                --waiter.remaining;
+            } else {
+                queue_.push_back(&p);
+            }
         }
-        queue_.push_back(&pending);
     }
-    std::unique_lock lock(pending.mutex);
+    std::unique_lock lock(waiter.mutex);
     // The cycle re-sends until the deadline and then fails the request; the
     // margin covers a cycle thread that stopped running altogether.
-    const bool finished = pending.done_cv.wait_until(lock, pending.deadline + std::chrono::seconds(1),
-                                                     [&pending] { return pending.done; });
-    if (!finished) {
+    if (!waiter.done_cv.wait_until(lock, last_deadline + std::chrono::seconds(1),
+                                   [&waiter] { return waiter.remaining == 0; })) {
         lock.unlock();
-        std::lock_guard queue_lock(mutex_);
-        // Still queued (not in a batch): take it out so nobody touches it later.
-        const auto it = std::find(queue_.begin(), queue_.end(), &pending);
-        if (it != queue_.end()) {
-            queue_.erase(it);
-            return unexpected(bus::BusError{bus::BusErrc::Timeout, "the cycle did not send the request"});
+        {
+            std::lock_guard queue_lock(mutex_);
+            // Those still queued (not in a batch) come out so nobody touches them later.
+            for (Pending& p : pending) {
+                const auto it = std::find(queue_.begin(), queue_.end(), &p);
+                if (it == queue_.end()) continue;
+                queue_.erase(it);
+                finish(p, bus::BusError{bus::BusErrc::Timeout, "the cycle did not send the request"});
+            }
         }
-        std::unique_lock relock(pending.mutex);
-        pending.done_cv.wait(relock, [&pending] { return pending.done; });
+        lock.lock();
+        waiter.done_cv.wait(lock, [&waiter] { return waiter.remaining == 0; });
     }
-    if (pending.error) return unexpected(*pending.error);
-    return std::move(pending.reply);
+    std::vector<Expected<bus::DatagramReply, bus::BusError>> replies;
+    replies.reserve(pending.size());
+    for (Pending& p : pending) {
+        if (p.error) {
+            replies.emplace_back(unexpected(std::move(*p.error)));
+        } else {
+            replies.emplace_back(std::move(p.reply));
+        }
+    }
+    return replies;
 }
 
 void AcyclicQueue::refuse(std::optional<bus::BusErrc> reason) {
@@ -79,10 +118,11 @@ void AcyclicQueue::refuse(std::optional<bus::BusErrc> reason) {
 }
 
 void AcyclicQueue::finish(Pending& pending, std::optional<bus::BusError> error) {
-    std::lock_guard lock(pending.mutex);
+    Waiter& waiter = *pending.waiter;
+    std::lock_guard lock(waiter.mutex);
     pending.error = std::move(error);
     pending.done = true;
-    pending.done_cv.notify_one();
+    if (--waiter.remaining == 0) waiter.done_cv.notify_one();
 }
 
 std::optional<std::uint16_t> AcyclicQueue::fill_frame(wire::FrameBuilder& builder, link::Clock::time_point now) {
@@ -98,15 +138,15 @@ std::optional<std::uint16_t> AcyclicQueue::fill_frame(wire::FrameBuilder& builde
             queue_.pop_front();
             finish(*p, bus::BusError{bus::BusErrc::Timeout,
                                      fmt::format("{} at 0x{:08x}: no reply within {} attempt(s)",
-                                                 wire::to_string(p->request.command), p->request.address,
+                                                 wire::to_string(p->request->command), p->request->address,
                                                  p->attempt)});
             continue;
         }
         wire::DatagramHeader header;
-        header.command = p->request.command;
+        header.command = p->request->command;
         header.index = static_cast<std::uint8_t>(batch.count);
-        header.address = p->request.address;
-        if (!builder.append(header, p->request.data)) break;  // the next frame takes it
+        header.address = p->request->address;
+        if (!builder.append(header, p->request->data)) break;  // the next frame takes it
         queue_.pop_front();
         p->index = static_cast<std::uint8_t>(batch.count);
         ++p->attempt;
@@ -129,7 +169,7 @@ void AcyclicQueue::complete(std::uint16_t batch_number, const wire::ConstFrameVi
             if (now > p->deadline) {
                 finish(*p, bus::BusError{bus::BusErrc::Timeout,
                                          fmt::format("{} at 0x{:08x}: no reply after {} attempt(s)",
-                                                     wire::to_string(p->request.command), p->request.address,
+                                                     wire::to_string(p->request->command), p->request->address,
                                                      p->attempt)});
             } else {
                 queue_.push_front(p);

@@ -35,9 +35,17 @@ void SlaveMonitor::raise(master::EventKind kind, std::uint32_t a, std::uint32_t 
 }
 
 void SlaveMonitor::poll_once() {
-    for (std::size_t i = 0; i < eni_->slaves.size(); ++i) {
+    // All slaves in one go: the master packs the reads into as few frames as
+    // fit, so a round costs a cycle or two and one wake-up, not one per slave.
+    std::vector<bus::DatagramRequest> reads;
+    reads.reserve(eni_->slaves.size());
+    for (const auto& slave : eni_->slaves) {
+        reads.push_back(bus::read_request(bus::SlaveAddress::station(slave.info.phys_addr), wire::reg::kAlStatus, 6));
+    }
+    const auto replies = bus_.exchange_all(reads);
+    for (std::size_t i = 0; i < replies.size(); ++i) {
         const auto station = eni_->slaves[i].info.phys_addr;
-        auto reply = bus::read_register(bus_, bus::SlaveAddress::station(station), wire::reg::kAlStatus, 6);
+        const auto& reply = replies[i];
         if (!reply) {
             // An INACTIVE master or a stopping one: nothing to learn now.
             if (reply.error().code == bus::BusErrc::MasterRedStateInactive ||

@@ -7,6 +7,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -51,6 +52,10 @@ class BusAccess {
 public:
     virtual ~BusAccess() = default;
     virtual Expected<DatagramReply, BusError> exchange(const DatagramRequest& request) = 0;
+    // Datagrams whose answers do not depend on each other, replies in request
+    // order. This default exchanges them one after the other; the master's
+    // acyclic queue sends them together and wakes the caller once.
+    virtual std::vector<Expected<DatagramReply, BusError>> exchange_all(std::span<const DatagramRequest> requests);
 };
 
 // How a single slave is addressed: by ring position (APxx) or by its
@@ -71,6 +76,8 @@ struct SlaveAddress {
     std::string to_string() const;
 };
 
+// The request that reads `length` bytes at `ado` of one slave.
+DatagramRequest read_request(SlaveAddress slave, std::uint16_t ado, std::size_t length);
 // Reads `length` bytes at `ado` of one slave. A reply with WKC 0 (nobody
 // answered) is returned as is: callers decide what a missing slave means.
 Expected<DatagramReply, BusError> read_register(BusAccess& bus, SlaveAddress slave, std::uint16_t ado,

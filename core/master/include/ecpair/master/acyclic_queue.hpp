@@ -1,13 +1,12 @@
 #pragma once
 // Acyclic datagrams (scan, InitCmds, state changes, mailbox) go through the
-// cycle: a worker thread calls exchange(), which queues the request and
-// waits; the cycle thread packs queued requests into a bounded number of
+// cycle: a worker thread calls exchange() or exchange_all(), which queue the
+// requests and wait (one wake-up however many requests); the cycle thread packs queued requests into a bounded number of
 // frames per cycle, sends them with the cyclic frames, and completes them
 // when their frame returns (or re-sends them until their deadline when it
 // does not). The cycle thread never waits for a worker and never allocates.
 
 #include <chrono>
-#include <condition_variable>
 #include <cstdint>
 #include <deque>
 #include <mutex>
@@ -30,6 +29,8 @@ public:
 
     // ---- any thread but the cycle thread
     Expected<bus::DatagramReply, bus::BusError> exchange(const bus::DatagramRequest& request) override;
+    std::vector<Expected<bus::DatagramReply, bus::BusError>> exchange_all(
+        std::span<const bus::DatagramRequest> requests) override;
     // From now on refuse new requests with `reason`, and fail the pending ones
     // with it (nullopt: accept again).
     void refuse(std::optional<bus::BusErrc> reason);
@@ -49,6 +50,7 @@ public:
     std::uint64_t resent() const { return resent_; }
 
 private:
+    struct Waiter;
     struct Pending;
     struct Batch {
         bool in_use = false;

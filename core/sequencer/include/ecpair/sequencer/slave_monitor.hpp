@@ -1,7 +1,8 @@
 #pragma once
 // Keeps the slave state image current while the master runs: every period
 // it reads each configured slave's AL status and status code by its station
-// address (an FPRD of 6 bytes at 0x0130) through the master's acyclic queue.
+// address (an FPRD of 6 bytes at 0x0130) through the master's acyclic queue,
+// all slaves' reads at once.
 // WKC 0 means the slave is not there (absent); a change of presence or a
 // new error flag is raised as an event. It only polls once the station
 // addresses are assigned (the master is PREOP or higher), and stays quiet
