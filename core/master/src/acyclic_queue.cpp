@@ -27,8 +27,7 @@ struct AcyclicQueue::Pending {
     std::uint8_t attempt = 0;
     std::uint8_t index = 0;  // datagram position in its current batch
     bus::DatagramReply reply;
-    std::optional<bus::BusError> error;  // guarded by the waiter's mutex, as is done
-    bool done = false;
+    std::optional<bus::BusError> error;  // guarded by the waiter's mutex once queued
     Waiter* waiter = nullptr;
 };
 
@@ -53,7 +52,6 @@ std::vector<Expected<bus::DatagramReply, bus::BusError>> AcyclicQueue::exchange_
         if (p.request->data.size() > wire::kMaxDatagramData) {
             p.error = bus::BusError{bus::BusErrc::InvalidRequest,
                                     fmt::format("{} bytes do not fit in one datagram", p.request->data.size())};
-            p.done = true;
             continue;
         }
         p.reply.data.assign(p.request->data.size(), 0);
@@ -64,10 +62,9 @@ std::vector<Expected<bus::DatagramReply, bus::BusError>> AcyclicQueue::exchange_
     {
         std::lock_guard lock(mutex_);
         for (Pending& p : pending) {
-            if (p.done) continue;
+            if (p.error) continue;  // too long for a datagram: never queued
             if (refusal_) {
                 p.error = bus::BusError{*refusal_, std::string(bus::to_string(*refusal_))};
-                p.done = true;
                 --waiter.remaining;
             } else {
                 queue_.push_back(&p);
@@ -121,7 +118,6 @@ void AcyclicQueue::finish(Pending& pending, std::optional<bus::BusError> error) 
     Waiter& waiter = *pending.waiter;
     std::lock_guard lock(waiter.mutex);
     pending.error = std::move(error);
-    pending.done = true;
     if (--waiter.remaining == 0) waiter.done_cv.notify_one();
 }
 

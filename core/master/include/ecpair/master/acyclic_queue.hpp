@@ -1,10 +1,11 @@
 #pragma once
 // Acyclic datagrams (scan, InitCmds, state changes, mailbox) go through the
 // cycle: a worker thread calls exchange() or exchange_all(), which queue the
-// requests and wait (one wake-up however many requests); the cycle thread packs queued requests into a bounded number of
-// frames per cycle, sends them with the cyclic frames, and completes them
-// when their frame returns (or re-sends them until their deadline when it
-// does not). The cycle thread never waits for a worker and never allocates.
+// requests and wait (one wake-up however many requests); the cycle thread
+// packs queued requests into a bounded number of frames per cycle, sends them
+// with the cyclic frames, and completes them when their frame returns (or
+// re-sends them until their deadline when it does not). The cycle thread
+// never waits for a worker and never allocates.
 
 #include <chrono>
 #include <cstdint>
