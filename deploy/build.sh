@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Installs the dependencies and builds ecpair into ./build (RelWithDebInfo).
-# Extra arguments go to the CMake configure step.
+# Extra arguments go to the CMake configure step. ECPAIR_BUILD_TARGETS
+# (space-separated) builds only those targets, e.g. the programs a demo runs;
+# by default everything is built, the tests and benchmarks too.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash deploy/install-deps.sh
@@ -9,4 +11,6 @@ bash deploy/install-deps.sh
 # another generator keeps it: CMake reads this only for a new tree.
 export CMAKE_GENERATOR="${CMAKE_GENERATOR:-Ninja}"
 cmake -S . -B build -DCMAKE_BUILD_TYPE=RelWithDebInfo "$@"
-cmake --build build -j"$(nproc)"
+targets=()
+for t in ${ECPAIR_BUILD_TARGETS:-}; do targets+=(--target "$t"); done
+cmake --build build -j"$(nproc)" "${targets[@]}"

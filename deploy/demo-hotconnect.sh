@@ -32,7 +32,7 @@ cleanup() {
 }
 trap cleanup EXIT
 
-demo_build
+demo_build ecsim ecpaird ecpairctl ecsim-make-eni
 ecsim=$bin/sim/segment/ecsim
 ecpaird=$bin/supervisor/ecpaird/ecpaird
 ecpairctl=$bin/supervisor/ecpairctl/ecpairctl

@@ -42,7 +42,7 @@ cleanup() {
 }
 trap cleanup EXIT
 
-demo_build
+demo_build ecsim ecpaird ecpairctl ecpair-capture-analysis
 ecsim=$bin/sim/segment/ecsim
 ecpaird=$bin/supervisor/ecpaird/ecpaird
 ecpairctl=$bin/supervisor/ecpairctl/ecpairctl
