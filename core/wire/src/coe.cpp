@@ -160,11 +160,51 @@ SdoMessage SdoMessage::abort(std::uint16_t index, std::uint8_t subindex, std::ui
     return m;
 }
 
+void CoeEmergency::encode(Bytes out) const {
+    store_le<std::uint16_t>(out, 0, error_code);
+    out[2] = error_register;
+    std::copy(data.begin(), data.end(), out.begin() + 3);
+}
+
+std::optional<CoeEmergency> CoeEmergency::decode(ConstBytes in) {
+    if (in.size() < kSize) return std::nullopt;
+    CoeEmergency e;
+    e.error_code = load_le<std::uint16_t>(in, 0);
+    e.error_register = in[2];
+    std::copy_n(in.begin() + 3, e.data.size(), e.data.begin());
+    return e;
+}
+
+std::string_view emergency_error_class(std::uint16_t error_code) {
+    // ETG.1000.6 adds the EtherCAT state machine's own codes to CiA 301's classes.
+    if (error_code == 0xA000) return "PREOP to SAFEOP transition failed";
+    if (error_code == 0xA001) return "SAFEOP to OP transition failed";
+    switch (error_code >> 12) {
+        case 0x0: return error_code == 0 ? "error reset or no error" : "unknown class";
+        case 0x1: return "generic error";
+        case 0x2: return "current";
+        case 0x3: return "voltage";
+        case 0x4: return "temperature";
+        case 0x5: return "device hardware";
+        case 0x6: return "device software";
+        case 0x7: return "additional modules";
+        case 0x8: return (error_code >> 8) == 0x81 ? "communication" : (error_code >> 8) == 0x82 ? "protocol error"
+                                                                                                 : "monitoring";
+        case 0x9: return "external error";
+        case 0xA: return "EtherCAT state machine";
+        case 0xF: return (error_code >> 8) == 0xFF ? "device specific" : "additional functions";
+        default: return "unknown class";
+    }
+}
+
 std::string_view sdo_abort_text(std::uint32_t code) {
     switch (code) {
         case sdo_abort::kToggleBit: return "toggle bit not changed";
         case sdo_abort::kTimeout: return "SDO protocol timeout";
         case sdo_abort::kUnknownCommand: return "client/server command specifier not valid or unknown";
+        case sdo_abort::kInvalidBlockSize: return "invalid block size";
+        case sdo_abort::kInvalidSequenceNumber: return "invalid sequence number";
+        case sdo_abort::kCrcError: return "CRC error";
         case sdo_abort::kOutOfMemory: return "out of memory";
         case sdo_abort::kUnsupportedAccess: return "unsupported access to an object";
         case sdo_abort::kWriteOnly: return "attempt to read a write-only object";
@@ -174,13 +214,23 @@ std::string_view sdo_abort_text(std::uint32_t code) {
         case sdo_abort::kObjectDoesNotExist: return "object does not exist in the object dictionary";
         case sdo_abort::kCannotMapObject: return "object cannot be mapped to the PDO";
         case sdo_abort::kPdoLengthExceeded: return "number and length of mapped objects exceed the PDO length";
+        case sdo_abort::kParameterIncompatibility: return "general parameter incompatibility";
+        case sdo_abort::kInternalIncompatibility: return "general internal incompatibility in the device";
+        case sdo_abort::kHardwareError: return "access failed due to a hardware error";
         case sdo_abort::kLengthMismatch: return "data type does not match, length of service parameter does not match";
         case sdo_abort::kLengthTooHigh: return "data type does not match, length of service parameter too high";
         case sdo_abort::kLengthTooLow: return "data type does not match, length of service parameter too low";
         case sdo_abort::kSubindexDoesNotExist: return "subindex does not exist";
         case sdo_abort::kValueOutOfRange: return "value range of parameter exceeded";
+        case sdo_abort::kValueTooHigh: return "value of parameter written too high";
+        case sdo_abort::kValueTooLow: return "value of parameter written too low";
+        case sdo_abort::kMaximumBelowMinimum: return "maximum value is less than minimum value";
         case sdo_abort::kGeneralError: return "general error";
+        case sdo_abort::kCannotStore: return "data cannot be transferred or stored to the application";
+        case sdo_abort::kCannotStoreLocalControl: return "data cannot be transferred or stored because of local control";
         case sdo_abort::kCannotStoreInState: return "data cannot be transferred or stored because of the present device state";
+        case sdo_abort::kNoObjectDictionary: return "object dictionary dynamic generation failed or no object dictionary present";
+        case sdo_abort::kNoDataAvailable: return "no data available";
         default: return "unknown SDO abort code";
     }
 }

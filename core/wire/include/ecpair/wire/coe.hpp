@@ -12,6 +12,7 @@
 //   bytes 8..  data of a normal transfer
 // Segment messages have only byte 0 followed by up to the mailbox size of data.
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string_view>
@@ -74,11 +75,33 @@ struct SdoMessage {
     static SdoMessage abort(std::uint16_t index, std::uint8_t subindex, std::uint32_t code);
 };
 
+// A CoE emergency (CoE service 1, ETG.1000.6 §5.6.4): an error the slave
+// reports on its own, at any time, after the CoE header:
+//   bytes 0-1  error code (CiA 301: the high byte's first digit is the class)
+//   byte 2     error register (object 0x1001)
+//   bytes 3-7  manufacturer-specific data
+struct CoeEmergency {
+    static constexpr std::size_t kSize = 8;
+    std::uint16_t error_code = 0;
+    std::uint8_t error_register = 0;
+    std::array<std::uint8_t, 5> data{};
+
+    void encode(Bytes out) const;  // out.size() >= kSize
+    static std::optional<CoeEmergency> decode(ConstBytes in);
+    friend bool operator==(const CoeEmergency&, const CoeEmergency&) = default;
+};
+
+// The class of an emergency error code: "current", "temperature", "communication", ...
+std::string_view emergency_error_class(std::uint16_t error_code);
+
 // SDO abort codes (ETG.1000.6 table 41) used here and their text.
 namespace sdo_abort {
 inline constexpr std::uint32_t kToggleBit = 0x05030000;
 inline constexpr std::uint32_t kTimeout = 0x05040000;
 inline constexpr std::uint32_t kUnknownCommand = 0x05040001;
+inline constexpr std::uint32_t kInvalidBlockSize = 0x05040002;
+inline constexpr std::uint32_t kInvalidSequenceNumber = 0x05040003;
+inline constexpr std::uint32_t kCrcError = 0x05040004;
 inline constexpr std::uint32_t kOutOfMemory = 0x05040005;
 inline constexpr std::uint32_t kUnsupportedAccess = 0x06010000;
 inline constexpr std::uint32_t kWriteOnly = 0x06010001;
@@ -88,13 +111,23 @@ inline constexpr std::uint32_t kCompleteAccessUnsupported = 0x06010004;
 inline constexpr std::uint32_t kObjectDoesNotExist = 0x06020000;
 inline constexpr std::uint32_t kCannotMapObject = 0x06040041;
 inline constexpr std::uint32_t kPdoLengthExceeded = 0x06040042;
+inline constexpr std::uint32_t kParameterIncompatibility = 0x06040043;
+inline constexpr std::uint32_t kInternalIncompatibility = 0x06040047;
+inline constexpr std::uint32_t kHardwareError = 0x06060000;
 inline constexpr std::uint32_t kLengthMismatch = 0x06070010;
 inline constexpr std::uint32_t kLengthTooHigh = 0x06070012;
 inline constexpr std::uint32_t kLengthTooLow = 0x06070013;
 inline constexpr std::uint32_t kSubindexDoesNotExist = 0x06090011;
 inline constexpr std::uint32_t kValueOutOfRange = 0x06090030;
+inline constexpr std::uint32_t kValueTooHigh = 0x06090031;
+inline constexpr std::uint32_t kValueTooLow = 0x06090032;
+inline constexpr std::uint32_t kMaximumBelowMinimum = 0x06090036;
 inline constexpr std::uint32_t kGeneralError = 0x08000000;
+inline constexpr std::uint32_t kCannotStore = 0x08000020;
+inline constexpr std::uint32_t kCannotStoreLocalControl = 0x08000021;
 inline constexpr std::uint32_t kCannotStoreInState = 0x08000022;
+inline constexpr std::uint32_t kNoObjectDictionary = 0x08000023;
+inline constexpr std::uint32_t kNoDataAvailable = 0x08000024;
 }  // namespace sdo_abort
 
 std::string_view sdo_abort_text(std::uint32_t code);
