@@ -145,5 +145,30 @@ TEST_CASE("lenient spellings: hex, negative addresses, booleans, names, unknown 
     CHECK_FALSE(eni->process_image);
 }
 
+TEST_CASE("SoE InitCmds are read with their opcode, drive, IDN, elements and data; EoE with its header", "[eni][extra]") {
+    const auto eni = must_load(extra_eni("soe_eoe_drive_2slaves.xml"));
+    const auto& mailbox = eni->slaves[1].mailbox.value();
+    CHECK(mailbox.protocols == (kEoE | kCoE | kFoE | kSoE));
+    REQUIRE(mailbox.soe_init_cmds.size() == 6);
+    const auto& telegram = mailbox.soe_init_cmds[0];
+    CHECK(telegram.fixed);
+    CHECK(telegram.transitions.contains(Transition::PS));
+    CHECK(telegram.comment == "Telegram type");
+    CHECK(telegram.opcode == 3);
+    CHECK(telegram.drive_no == 0);
+    CHECK(telegram.idn == 15);
+    CHECK(telegram.elements == 0x40);
+    CHECK(telegram.data == std::vector<std::uint8_t>{0x07, 0x00});
+    CHECK(mailbox.soe_init_cmds[1].timeout == std::chrono::milliseconds(2000));
+    CHECK(mailbox.soe_init_cmds[2].drive_no == 1);
+    CHECK(mailbox.soe_init_cmds[2].idn == 32828);
+    CHECK(mailbox.soe_init_cmds[3].data.size() == 300);
+    CHECK(mailbox.soe_init_cmds[4].opcode == 1);
+    CHECK(mailbox.soe_init_cmds[4].data.empty());
+    CHECK(mailbox.soe_init_cmds[5].disabled);
+    REQUIRE(mailbox.eoe_init_cmds.size() == 1);
+    CHECK(mailbox.eoe_init_cmds[0].data.size() == 62);
+}
+
 }  // namespace
 }  // namespace ecpair::eni

@@ -1,7 +1,7 @@
 // <Mailbox>: the mailbox SyncManager areas (normal and BootStrap), how the
 // master learns of new mail (PollTime or a MailboxStates StatusBitAddr), the
-// supported protocols and the CoE/EoE InitCmds, kept as data. Profile
-// ChannelInfo and FoE/SoE details are not used and are ignored.
+// supported protocols and the CoE, EoE and SoE InitCmds, kept as data.
+// Profile ChannelInfo and FoE details are not used and are ignored.
 
 #include <string_view>
 #include <utility>
@@ -54,7 +54,33 @@ EoeInitCmd read_eoe_init_cmd(const Element& cmd) {
     return result;
 }
 
-// The <InitCmds><InitCmd>* of a protocol element (<CoE>, <EoE>).
+SoeInitCmd read_soe_init_cmd(const Element& cmd) {
+    SoeInitCmd result;
+    result.source_line = cmd.line();
+    result.fixed = cmd.attribute_boolean("Fixed").value_or(false);
+    result.transitions = read_transitions(cmd, true);
+    result.comment = cmd.optional_text("Comment");
+    result.timeout = std::chrono::milliseconds(cmd.optional_number<std::uint32_t>("Timeout").value_or(0));
+    if (const auto opcode = cmd.child("OpCode")) {
+        result.opcode = opcode->number<std::uint8_t>();
+        if (result.opcode != 1 && result.opcode != 3) {
+            opcode->fail(quoted(opcode->text()) + " is not 3 (write) or 1 (read)");
+        }
+    }
+    if (const auto drive = cmd.child("DriveNo")) {
+        result.drive_no = drive->number<std::uint8_t>();
+        if (result.drive_no > 7) drive->fail(quoted(drive->text()) + " is not a drive number 0..7");
+    }
+    result.idn = cmd.required_number<std::uint16_t>("IDN");
+    result.elements = cmd.optional_number<std::uint8_t>("Elements").value_or(0x40);
+    result.attribute = cmd.optional_number<std::uint8_t>("Attribute").value_or(0);
+    if (const auto data = cmd.child("Data")) result.data = data->hex_binary();
+    result.disabled = cmd.optional_boolean("Disabled").value_or(false);
+    cmd.log_unread_children();
+    return result;
+}
+
+// The <InitCmds><InitCmd>* of a protocol element (<CoE>, <EoE>, <SoE>).
 template <class ReadCmd>
 auto read_protocol_init_cmds(const Element& protocol, ReadCmd read_cmd) {
     std::vector<decltype(read_cmd(protocol))> cmds;
@@ -113,6 +139,20 @@ Mailbox read_mailbox(const Element& mailbox) {
     if (const auto eoe = mailbox.child("EoE")) {
         result.eoe_init_cmds = read_protocol_init_cmds(*eoe, read_eoe_init_cmd);
         eoe->log_unread_children();
+    }
+    if (const auto soe = mailbox.child("SoE")) {
+        result.soe_init_cmds = read_protocol_init_cmds(*soe, read_soe_init_cmd);
+        soe->log_unread_children();
+    }
+    // ecpair runs the CoE, EoE and SoE InitCmds; any other protocol's would be
+    // skipped in silence, so a file that has them is refused.
+    for (const std::string_view name : {"AoE", "FoE", "VoE"}) {
+        const auto protocol = mailbox.child(name);
+        if (!protocol) continue;
+        if (const auto init_cmds = protocol->child("InitCmds"); init_cmds && init_cmds->has_child("InitCmd")) {
+            init_cmds->fail(std::string(name) + " InitCmds are not supported: ecpair runs the CoE, EoE and SoE "
+                                                "InitCmds of a mailbox and cannot execute these");
+        }
     }
     if (const auto aoe = mailbox.child("AoE")) {
         if (aoe->has_child("NetId")) result.aoe_net_id = aoe->optional_text("NetId");

@@ -191,6 +191,23 @@ struct EoeInitCmd {
     int source_line = 0;
 };
 
+// An SoE InitCmd from <Mailbox><SoE><InitCmds> (ETG.2100): an IDN write
+// (OpCode 3) or read (OpCode 1) of a drive's elements, kept as data.
+struct SoeInitCmd {
+    TransitionSet transitions;
+    bool fixed = false;
+    bool disabled = false;
+    std::string comment;
+    std::chrono::milliseconds timeout{0};
+    std::uint8_t opcode = 3;  // 3 write, 1 read
+    std::uint8_t drive_no = 0;
+    std::uint16_t idn = 0;
+    std::uint8_t elements = 0x40;  // the value
+    std::uint8_t attribute = 0;
+    std::vector<std::uint8_t> data;
+    int source_line = 0;
+};
+
 struct Mailbox {
     std::string data_link_layer;  // attribute, as written
     std::optional<MailboxArea> send;  // master -> slave (SM0)
@@ -204,6 +221,7 @@ struct Mailbox {
     std::uint16_t protocols = 0;
     std::vector<CoeInitCmd> coe_init_cmds;
     std::vector<EoeInitCmd> eoe_init_cmds;
+    std::vector<SoeInitCmd> soe_init_cmds;
     std::optional<std::string> aoe_net_id;  // <AoE><NetId>, e.g. "1.1.1.1.3.234"
 };
 
