@@ -534,7 +534,7 @@ TEST_CASE("mailbox errors (type 0) for other protocols, bad headers and messages
         CHECK(reply->header.address == kStation);
         return mailbox_error_of(*reply);
     };
-    CHECK(error_for(mailbox_message(wire::MailboxType::FoE, 10, 1, counting(10))) == 0x0002);  // unsupported protocol
+    CHECK(error_for(mailbox_message(wire::MailboxType::SoE, 10, 1, counting(10))) == 0x0002);  // a protocol it does not offer
     CHECK(error_for(mailbox_message(wire::MailboxType::Error, 4, 2, counting(4))) == 0x0005);  // invalid header
     CHECK(error_for(mailbox_message(wire::MailboxType::CoE, 0, 3, {})) == 0x0005);
     CHECK(error_for(mailbox_message(wire::MailboxType::CoE, 123, 4, {})) == 0x0008);  // past the 122 bytes of SM0

@@ -56,3 +56,12 @@ TEST_CASE("refused requests answer error: with the reason", "[control]") {
     CHECK(handle_control_line(segment, "bogus") == "error: unknown command 'bogus' (try 'help')");
     CHECK_THAT(handle_control_line(segment, "help"), Catch::StartsWith("ok commands: status; help; power-off K;"));
 }
+
+TEST_CASE("the mailbox commands need a slave whose mailbox offers the protocol", "[control]") {
+    Segment segment = line_segment(2);  // slaves without a mailbox
+    CHECK(handle_control_line(segment, "emergency 1 0x8130") ==
+          "error: slave 1 sends no emergency: its mailbox offers no CoE");
+    CHECK(handle_control_line(segment, "foe-password 2 7") == "error: slave 2 offers no FoE");
+    CHECK(handle_control_line(segment, "foe-busy 2 1") == "error: slave 2 offers no FoE");
+    CHECK(handle_control_line(segment, "emergency 5 1") == "error: position 5 is out of range 1..2");
+}

@@ -1,5 +1,7 @@
 // The control request grammar: every command, and every way to get it wrong.
 
+#include <array>
+
 #include <catch2/catch.hpp>
 
 #include "ecpair/sim/control_protocol.hpp"
@@ -125,4 +127,36 @@ TEST_CASE("the Hot-Connect commands name a group, a slave, a port and a state", 
     CHECK(refusal("plug-group 1 4 D 5") == "plug-group takes 3 arguments, got 4: plug-group N K PORT");
     const std::string usage = control_usage();
     CHECK_THAT(usage, Catch::Contains("plug-group N K PORT") && Catch::Contains("impair main|red LOSS% DUP% DELAY_US"));
+}
+
+TEST_CASE("emergency takes a code and optionally a register and up to five data bytes; foe-password and foe-busy",
+          "[control]") {
+    const auto plain = parsed("emergency 2 0x8130");
+    CHECK(plain.command == ControlCommand::Emergency);
+    CHECK(plain.position == 2);
+    CHECK(plain.value == 0x8130);
+    CHECK(plain.error_register == 0);
+    CHECK(plain.emergency_data == std::array<std::uint8_t, 5>{});
+    const auto full = parsed("emergency 1 16912 0x11 0102030405");
+    CHECK(full.value == 16912);
+    CHECK(full.error_register == 0x11);
+    CHECK(full.emergency_data == std::array<std::uint8_t, 5>{1, 2, 3, 4, 5});
+    CHECK(parsed("emergency 1 1 2 0xaabb").emergency_data == std::array<std::uint8_t, 5>{0xaa, 0xbb, 0, 0, 0});
+    CHECK(refusal("emergency 1") == "emergency takes 2 to 4 arguments, got 1: emergency K CODE [REG [DATA]]");
+    CHECK(refusal("emergency 1 70000") ==
+          "emergency: CODE must be a number in 0..65535 (decimal or 0x hex), got '70000'");
+    CHECK(refusal("emergency 1 1 256") == "emergency: REG must be a number in 0..255 (decimal or 0x hex), got '256'");
+    CHECK(refusal("emergency 1 1 1 010203040506") ==
+          "emergency: DATA must be 1 to 5 bytes as hex digits (0102030405), got '010203040506'");
+    CHECK(refusal("emergency 1 1 1 0g") == "emergency: DATA must be 1 to 5 bytes as hex digits (0102030405), got '0g'");
+
+    const auto password = parsed("foe-password 3 0xDEADBEEF");
+    CHECK(password.command == ControlCommand::FoePassword);
+    CHECK(password.position == 3);
+    CHECK(password.password == 0xDEADBEEF);
+    CHECK(refusal("foe-password 3 x") ==
+          "foe-password: PASSWORD must be a number in 0..4294967295 (decimal or 0x hex), got 'x'");
+    const auto busy = parsed("foe-busy 2 5");
+    CHECK(busy.command == ControlCommand::FoeBusy);
+    CHECK(busy.value == 5);
 }

@@ -34,6 +34,10 @@
 #include "dl_registers.hpp"
 #include "ecpair/common/log.hpp"
 #include "ecpair/sim/coe_server.hpp"
+#include "ecpair/sim/eoe_server.hpp"
+#include "ecpair/sim/foe_server.hpp"
+#include "ecpair/sim/mailbox_server.hpp"
+#include "ecpair/sim/soe_server.hpp"
 #include "ecpair/wire/esc_registers.hpp"
 #include "error_counters.hpp"
 #include "esc_coe_context.hpp"
@@ -97,12 +101,7 @@ struct Esc::Impl {
         if (description.input_word_id) {
             application.show_word(description.input_word_id->address, description.input_word_id->value);
         }
-        // A slave whose mailbox offers CoE (or that has CoE InitCmds) answers
-        // SDOs from its object dictionary (docs/ESC_EMULATION.md "CoE server").
-        if (layout.has_mailbox() && (layout.mailbox_protocols & eni::kCoE) != 0) {
-            mailbox.set_handler(std::make_unique<CoeServer>(ObjectDictionary::for_slave(description), coe_context,
-                                                            layout.mailbox->in.length));
-        }
+        install_mailbox_server();
         power_on();
     }
 
@@ -111,6 +110,10 @@ struct Esc::Impl {
     Impl(const Impl&) = delete;
     Impl& operator=(const Impl&) = delete;
 
+    // A slave whose mailbox offers CoE, FoE, EoE or SoE (or has their
+    // InitCmds) answers them (docs/ESC_EMULATION.md "Mailbox"); the
+    // others answer every request with a mailbox error.
+    void install_mailbox_server();
     EpuVerdict process(wire::FrameView& frame, const FrameContext& context);
     void end_of_frame(const FrameContext& context, bool addressed);
     // `addressed`: a datagram of the frame addressed this ESC; the
@@ -147,6 +150,7 @@ struct Esc::Impl {
     SlaveApplication application;
     EscCoeContext coe_context;
     LegacyIdSelector legacy;
+    MailboxServer* mailbox_server = nullptr;  // owned by `mailbox` while installed
 
     // What DL status (0x0110) was last computed from; nullopt: not since power-on.
     struct DlStatusInputs {
@@ -231,6 +235,28 @@ void Esc::Impl::run_slave_stack(bool al_control_written, bool sm_activation_chan
     if (state_changed) apply_state(al.state());
     mailbox.after_frame();
     if (addressed) application.after_frame(al.state());
+}
+
+void Esc::Impl::install_mailbox_server() {
+    if (!layout.has_mailbox()) return;
+    const auto offered = layout.mailbox_protocols;
+    std::vector<std::unique_ptr<MailboxProtocol>> protocols;
+    if ((offered & eni::kCoE) != 0) {
+        protocols.push_back(std::make_unique<CoeServer>(ObjectDictionary::for_slave(description), coe_context,
+                                                        layout.mailbox->in.length));
+    }
+    if ((offered & eni::kFoE) != 0) {
+        protocols.push_back(std::make_unique<FoeServer>(layout.mailbox->out.length, layout.mailbox->in.length));
+    }
+    if ((offered & eni::kEoE) != 0) protocols.push_back(std::make_unique<EoeServer>());
+    if ((offered & eni::kSoE) != 0) {
+        protocols.push_back(std::make_unique<SoeServer>(
+            description.mailbox ? description.mailbox->soe_init_cmds : std::vector<eni::SoeInitCmd>{}));
+    }
+    if (protocols.empty()) return;
+    auto server = std::make_unique<MailboxServer>(coe_context, layout.mailbox->in.length, std::move(protocols));
+    mailbox_server = server.get();
+    mailbox.set_handler(std::move(server));
 }
 
 // What the slave stack does with its SyncManagers in each state, as SOES:
@@ -450,9 +476,40 @@ void Esc::refuse_states_from(std::optional<eni::SlaveState> state) {
                      state ? fmt::format("refuses {} and above", eni::to_string(*state)) : std::string("refuses no state"));
 }
 
-void Esc::set_mailbox_handler(std::unique_ptr<MailboxHandler> handler) { impl_->mailbox.set_handler(std::move(handler)); }
+void Esc::set_mailbox_handler(std::unique_ptr<MailboxHandler> handler) {
+    impl_->mailbox_server = nullptr;
+    impl_->mailbox.set_handler(std::move(handler));
+}
 
 bool Esc::post_mailbox_reply(ConstBytes reply) { return impl_->mailbox.post(reply); }
+
+Expected<void, std::string> Esc::send_emergency(const wire::CoeEmergency& emergency) {
+    if (impl_->mailbox_server == nullptr || impl_->mailbox_server->protocol(wire::MailboxType::CoE) == nullptr) {
+        return unexpected(std::string("its mailbox offers no CoE"));
+    }
+    if (!impl_->mailbox.running()) return unexpected(std::string("its mailbox does not run (INIT or no power)"));
+    if (!impl_->mailbox_server->send_unsolicited(wire::MailboxType::CoE, CoeServer::emergency(emergency),
+                                                 impl_->mailbox)) {
+        return unexpected(std::string("its mailbox queue is full (the master does not read SM1)"));
+    }
+    impl_->log->info("{}: CoE emergency 0x{:04x} sent", impl_->owner, emergency.error_code);
+    return {};
+}
+
+FoeServer* Esc::foe_server() {
+    return impl_->mailbox_server ? dynamic_cast<FoeServer*>(impl_->mailbox_server->protocol(wire::MailboxType::FoE))
+                                 : nullptr;
+}
+
+const EoeServer* Esc::eoe_server() const {
+    return impl_->mailbox_server ? dynamic_cast<const EoeServer*>(impl_->mailbox_server->protocol(wire::MailboxType::EoE))
+                                 : nullptr;
+}
+
+const SoeServer* Esc::soe_server() const {
+    return impl_->mailbox_server ? dynamic_cast<const SoeServer*>(impl_->mailbox_server->protocol(wire::MailboxType::SoE))
+                                 : nullptr;
+}
 
 std::vector<std::uint8_t> Esc::read_memory(std::uint16_t address, std::size_t length) const {
     const auto bytes = impl_->memory.bytes();

@@ -1,10 +1,11 @@
 #pragma once
-// The CoE server's view of the ESC it runs in (CoeSlaveContext): the station
-// address register, the AL state, and the expected sizes of the process
-// data SyncManagers. The slave stack's SAFEOP check reads those sizes from
-// the layout (slave_stack_checks), so a PDO assignment written over CoE
-// changes what the check expects, as on a real slave. Only SyncManagers
-// the layout plans as Outputs/Inputs take a new size.
+// The mailbox's and the CoE server's view of the ESC it runs in
+// (CoeSlaveContext, a MailboxSlave): the station address register, the AL
+// state, and the expected sizes of the process data SyncManagers. The
+// slave stack's SAFEOP check reads those sizes from the layout
+// (slave_stack_checks), so a PDO assignment written over CoE changes what
+// the check expects, as on a real slave. Only SyncManagers the layout plans
+// as Outputs/Inputs take a new size.
 
 #include <memory>
 #include <string>

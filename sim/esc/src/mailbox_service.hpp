@@ -29,6 +29,7 @@ public:
     void set_handler(std::unique_ptr<MailboxHandler> handler);
     // The stack starts or stops the mailbox with the AL state.
     void set_running(bool running);
+    bool running() const { return running_; }
     void after_frame();
 
     bool post(ConstBytes reply) override;

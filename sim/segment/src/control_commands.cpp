@@ -127,6 +127,23 @@ std::string execute_control_request(Segment& segment, const ControlRequest& requ
         case ControlCommand::SetSelector:
             return outcome(segment.set_legacy_id_selector(k, request.value),
                            fmt::format("slave {} ETG.1020 ID selector {} (read at its next power-on)", k, request.value));
+        case ControlCommand::Emergency: {
+            wire::CoeEmergency emergency;
+            emergency.error_code = request.value;
+            emergency.error_register = request.error_register;
+            emergency.data = request.emergency_data;
+            return outcome(segment.send_emergency(k, emergency),
+                           fmt::format("slave {} sends CoE emergency 0x{:04x} (register 0x{:02x})", k, request.value,
+                                       request.error_register));
+        }
+        case ControlCommand::FoePassword:
+            return outcome(segment.set_foe_password(k, request.password),
+                           request.password == 0 ? fmt::format("slave {} asks for no FoE password", k)
+                                                 : fmt::format("slave {} asks for FoE password 0x{:08x}", k,
+                                                               request.password));
+        case ControlCommand::FoeBusy:
+            return outcome(segment.set_foe_busy(k, request.value),
+                           fmt::format("slave {} answers the next {} FoE data packet(s) BUSY", k, request.value));
         case ControlCommand::Impair:
             return control_error("impair acts on ecsim's cables, not on the segment: send it to a running ecsim");
     }

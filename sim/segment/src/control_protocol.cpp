@@ -5,8 +5,10 @@
 
 #include "ecpair/sim/control_protocol.hpp"
 
+#include "ecpair/common/hex.hpp"
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <array>
 #include <charconv>
 #include <optional>
@@ -26,7 +28,7 @@ struct CommandSyntax {
     std::array<Arg, 3> kinds;
 };
 
-constexpr std::array<CommandSyntax, 19> kSyntax{{
+constexpr std::array<CommandSyntax, 22> kSyntax{{
     {ControlCommand::Status, "status", "", 0, {}},
     {ControlCommand::Help, "help", "", 0, {}},
     {ControlCommand::PowerOff, "power-off", "K", 1, {Arg::Position}},
@@ -46,6 +48,9 @@ constexpr std::array<CommandSyntax, 19> kSyntax{{
     {ControlCommand::RefuseState, "refuse-state", "K STATE", 2, {Arg::Position, Arg::State}},
     {ControlCommand::SetSelector, "set-selector", "K VALUE", 2, {Arg::Position, Arg::Value}},
     {ControlCommand::Impair, "impair", "main|red LOSS% DUP% DELAY_US", 4, {}},  // parsed by parse_impairment
+    {ControlCommand::Emergency, "emergency", "K CODE [REG [DATA]]", 2, {}},      // parsed by parse_emergency
+    {ControlCommand::FoePassword, "foe-password", "K PASSWORD", 2, {}},          // parsed by parse_foe_password
+    {ControlCommand::FoeBusy, "foe-busy", "K N", 2, {Arg::Position, Arg::Value}},
 }};
 
 constexpr std::size_t kMaxWords = 5;
@@ -127,6 +132,62 @@ Expected<ControlRequest, ControlParseError> parse_impairment(ControlRequest requ
     return request;
 }
 
+// emergency K CODE [REG [DATA]]: 2 to 4 arguments (the count is checked already).
+Expected<ControlRequest, ControlParseError> parse_emergency(ControlRequest request,
+                                                           const std::array<std::string_view, kMaxWords>& words,
+                                                           std::size_t count) {
+    const auto position = parse_number(words[1], false, 0xFFFF);
+    if (!position) {
+        return unexpected(ControlParseError{
+            fmt::format("emergency: K must be a decimal number in 0..65535, got '{}'", printable(words[1]))});
+    }
+    request.position = *position;
+    const auto code = parse_number(words[2], true, 0xFFFF);
+    if (!code) {
+        return unexpected(ControlParseError{fmt::format(
+            "emergency: CODE must be a number in 0..65535 (decimal or 0x hex), got '{}'", printable(words[2]))});
+    }
+    request.value = static_cast<std::uint16_t>(*code);
+    if (count > 3) {
+        const auto reg = parse_number(words[3], true, 0xFF);
+        if (!reg) {
+            return unexpected(ControlParseError{fmt::format(
+                "emergency: REG must be a number in 0..255 (decimal or 0x hex), got '{}'", printable(words[3]))});
+        }
+        request.error_register = static_cast<std::uint8_t>(*reg);
+    }
+    if (count > 4) {
+        std::string_view digits = words[4];
+        if (digits.size() > 2 && digits[0] == '0' && (digits[1] == 'x' || digits[1] == 'X')) digits.remove_prefix(2);
+        const auto data = parse_hex(digits);
+        if (!data || data->empty() || data->size() > request.emergency_data.size() ||
+            digits.find_first_of(" \t") != std::string_view::npos) {
+            return unexpected(ControlParseError{fmt::format(
+                "emergency: DATA must be 1 to 5 bytes as hex digits (0102030405), got '{}'", printable(words[4]))});
+        }
+        std::copy(data->begin(), data->end(), request.emergency_data.begin());
+    }
+    return request;
+}
+
+Expected<ControlRequest, ControlParseError> parse_foe_password(ControlRequest request,
+                                                              const std::array<std::string_view, kMaxWords>& words) {
+    const auto position = parse_number(words[1], false, 0xFFFF);
+    if (!position) {
+        return unexpected(ControlParseError{
+            fmt::format("foe-password: K must be a decimal number in 0..65535, got '{}'", printable(words[1]))});
+    }
+    request.position = *position;
+    const auto password = parse_number(words[2], true, 0xFFFFFFFF);
+    if (!password) {
+        return unexpected(ControlParseError{fmt::format(
+            "foe-password: PASSWORD must be a number in 0..4294967295 (decimal or 0x hex), got '{}'",
+            printable(words[2]))});
+    }
+    request.password = *password;
+    return request;
+}
+
 std::string usage_of(const CommandSyntax& syntax) {
     return syntax.arguments.empty() ? std::string(syntax.word) : fmt::format("{} {}", syntax.word, syntax.arguments);
 }
@@ -170,6 +231,15 @@ Expected<ControlRequest, ControlParseError> parse_control_request(std::string_vi
         return unexpected(ControlParseError{fmt::format("unknown command '{}' (try 'help')", printable(words[0]))});
     }
     const auto given = static_cast<int>(count) - 1;
+    if (syntax->command == ControlCommand::Emergency) {
+        if (given < 2 || given > 4) {
+            return unexpected(ControlParseError{
+                fmt::format("emergency takes 2 to 4 arguments, got {}: {}", given, usage_of(*syntax))});
+        }
+        ControlRequest request;
+        request.command = syntax->command;
+        return parse_emergency(request, words, count);
+    }
     if (given != syntax->argument_count) {
         return unexpected(
             ControlParseError{fmt::format("{} takes {} argument{}, got {}: {}", syntax->word, syntax->argument_count,
@@ -179,6 +249,7 @@ Expected<ControlRequest, ControlParseError> parse_control_request(std::string_vi
     ControlRequest request;
     request.command = syntax->command;
     if (syntax->command == ControlCommand::Impair) return parse_impairment(request, words);
+    if (syntax->command == ControlCommand::FoePassword) return parse_foe_password(request, words);
     for (int n = 0; n < syntax->argument_count; ++n) {
         const std::string_view word = words[static_cast<std::size_t>(n) + 1];
         const Arg kind = syntax->kinds[static_cast<std::size_t>(n)];

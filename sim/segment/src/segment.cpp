@@ -13,6 +13,7 @@
 #include "ecpair/common/log.hpp"
 #include "ecpair/eni/eni_topology.hpp"
 #include "ecpair/eni/hot_connect_groups.hpp"
+#include "ecpair/sim/foe_server.hpp"
 #include "ecpair/wire/frame.hpp"
 #include "fast_pass.hpp"
 #include "segment_log.hpp"
@@ -318,6 +319,37 @@ Expected<void, FaultError> Segment::set_id_selector(std::size_t position, std::u
     if (!index) return unexpected(index.error());
     escs_[*index].set_id_selector(value);
     segment_log().info("slave {}: ID selector set to {}", position, value);
+    return {};
+}
+
+Expected<void, FaultError> Segment::send_emergency(std::size_t position, const wire::CoeEmergency& emergency) {
+    const auto index = slave_index(position);
+    if (!index) return unexpected(index.error());
+    if (auto sent = escs_[*index].send_emergency(emergency); !sent) {
+        return unexpected(FaultError{fmt::format("slave {} sends no emergency: {}", position, sent.error())});
+    }
+    refresh_digest(*index);  // SM1 is full now: an event for the IRQ field
+    segment_log().info("slave {}: CoE emergency 0x{:04x} queued", position, emergency.error_code);
+    return {};
+}
+
+Expected<void, FaultError> Segment::set_foe_password(std::size_t position, std::uint32_t password) {
+    const auto index = slave_index(position);
+    if (!index) return unexpected(index.error());
+    auto* foe = escs_[*index].foe_server();
+    if (foe == nullptr) return unexpected(FaultError{fmt::format("slave {} offers no FoE", position)});
+    foe->set_password(password);
+    segment_log().info("slave {}: FoE password {}", position, password == 0 ? std::string("none") : fmt::format("0x{:08x}", password));
+    return {};
+}
+
+Expected<void, FaultError> Segment::set_foe_busy(std::size_t position, std::uint32_t packets) {
+    const auto index = slave_index(position);
+    if (!index) return unexpected(index.error());
+    auto* foe = escs_[*index].foe_server();
+    if (foe == nullptr) return unexpected(FaultError{fmt::format("slave {} offers no FoE", position)});
+    foe->set_busy_packets(packets);
+    segment_log().info("slave {}: FoE busy for the next {} data packet(s)", position, packets);
     return {};
 }
 

@@ -17,11 +17,17 @@
 #include <vector>
 
 #include "ecpair/common/bytes.hpp"
+#include "ecpair/common/expected.hpp"
 #include "ecpair/eni/model.hpp"
 #include "ecpair/sim/mailbox.hpp"
+#include "ecpair/wire/coe.hpp"
 #include "ecpair/wire/frame.hpp"
 
 namespace ecpair::sim {
+
+class FoeServer;
+class EoeServer;
+class SoeServer;
 
 inline constexpr int kMaxPorts = 4;
 
@@ -186,6 +192,15 @@ public:
     // Posts an unsolicited reply into SM1 (e.g. an emergency); false when SM1
     // is full or the mailbox is not running.
     bool post_mailbox_reply(ConstBytes reply);
+    // The slave stack sends a CoE emergency (queued behind replies the
+    // master has not read); why not when its mailbox offers no CoE, does not
+    // run, or its queue is full.
+    Expected<void, std::string> send_emergency(const wire::CoeEmergency& emergency);
+    // The protocol servers of the slave stack (nullptr when it has none): the
+    // FoE server's password, busy packets and files; what EoE and SoE hold.
+    FoeServer* foe_server();
+    const EoeServer* eoe_server() const;
+    const SoeServer* soe_server() const;
 
     // ---- PDI-side view, for tests, the application and diagnostics
     // Raw memory access without ECAT semantics (no shadow, no SyncManager, no

@@ -11,17 +11,24 @@
 //   group-off N | group-on N | plug-group N K PORT | unplug-group N
 //   plug-unknown K PORT | plug-duplicate K J PORT
 //   refuse-state K STATE | set-selector K VALUE
+//   emergency K CODE [REG [DATA]] | foe-password K PASSWORD | foe-busy K N
 //   impair SIDE LOSS DUP DELAY
 //
 // K, J and N are decimal numbers (slave positions, a Hot-Connect group);
 // VALUE is decimal or 0x-prefixed hexadecimal, 0..65535; PORT is A..D (or
 // 0..3); STATE is PREOP, SAFEOP, OP or none.
+// emergency: slave K sends a CoE emergency with error code CODE (0..65535),
+// error register REG (0..255, default 0) and DATA (up to 5 bytes as hex
+// digits, e.g. 0102030405; default zeros). foe-password: slave K's FoE
+// server asks for PASSWORD (0..4294967295, decimal or 0x hex; 0: none).
+// foe-busy: it answers the next N data packets of a write BUSY.
 // impair: the cable on SIDE (main or red) loses LOSS % and duplicates DUP %
 // of the frames crossing it (either way), and delays those entering the
 // segment by DELAY µs (0..100000): netem's job, for kernels without netem.
 // impair SIDE 0 0 0 ends it.
 // Words are separated by spaces or tabs; a trailing CR is ignored.
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -51,6 +58,9 @@ enum class ControlCommand : std::uint8_t {
     RefuseState,
     SetSelector,
     Impair,
+    Emergency,
+    FoePassword,
+    FoeBusy,
 };
 
 std::string_view to_string(ControlCommand command);  // the request word, "power-off"
@@ -63,6 +73,10 @@ struct ControlRequest {
     std::size_t at = 0;        // J (plug-duplicate), K (plug-group)
     int port = 0;              // PORT, 0..3
     std::uint8_t state = 0;    // STATE as an AL state (2, 4, 8), 0 for none
+    // emergency (CODE in value)
+    std::uint8_t error_register = 0;
+    std::array<std::uint8_t, 5> emergency_data{};
+    std::uint32_t password = 0;  // foe-password
     // impair
     bool red_side = false;
     std::uint8_t loss_percent = 0;

@@ -134,6 +134,11 @@ public:
     // and the explicit device ID selector.
     Expected<void, FaultError> set_eeprom_alias(std::size_t position, std::uint16_t alias);
     Expected<void, FaultError> set_id_selector(std::size_t position, std::uint16_t value);
+    // The slave stack sends a CoE emergency; its FoE server asks for a
+    // password (0: none) or answers the next `packets` DATA of a write BUSY.
+    Expected<void, FaultError> send_emergency(std::size_t position, const wire::CoeEmergency& emergency);
+    Expected<void, FaultError> set_foe_password(std::size_t position, std::uint32_t password);
+    Expected<void, FaultError> set_foe_busy(std::size_t position, std::uint32_t packets);
 
     // ---- Hot-Connect (segment_hot_connect.cpp; groups 1..n as the ENI numbers them)
     // Power of every slave of a group.

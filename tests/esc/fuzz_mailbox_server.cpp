@@ -1,10 +1,12 @@
-// Fuzz target: arbitrary bytes as the SM0 contents a CoE server receives.
-// The servers (one per SM1 size, from too small for any SDO reply to the
+// Fuzz target: arbitrary bytes as the SM0 contents a slave stack's mailbox
+// server receives, with its CoE, FoE, EoE and SoE servers behind it. The
+// servers (one per mailbox size, from too small for any SDO reply to the
 // 1004 bytes of a real ENI) keep their state between inputs, so sequences
-// reach segmented transfers, retransmissions and waiting replies. The first
-// input byte picks the server and the AL state and may stop the mailbox or
-// let the master read SM1 first. Every reply must fit SM1 and be a whole
-// mailbox message (its header's length inside the reply).
+// reach segmented transfers, FoE reads and writes, SoE fragments,
+// retransmissions and waiting replies. The first input byte picks the
+// server and the AL state and may stop the mailbox, let the master read SM1
+// first, or make the slave send an emergency. Every reply must fit SM1 and
+// be a whole mailbox message (its header's length inside the reply).
 
 #include <array>
 #include <cstddef>
@@ -14,7 +16,11 @@
 #include <numeric>
 
 #include "ecpair/sim/coe_server.hpp"
+#include "ecpair/sim/eoe_server.hpp"
 #include "ecpair/sim/esc.hpp"
+#include "ecpair/sim/foe_server.hpp"
+#include "ecpair/sim/mailbox_server.hpp"
+#include "ecpair/sim/soe_server.hpp"
 #include "ecpair/wire/mailbox.hpp"
 
 namespace {
@@ -68,7 +74,7 @@ sim::EscDescription drive() {
     eni::Mailbox mailbox;
     mailbox.send = eni::MailboxArea{0x1000, 128};
     mailbox.recv = eni::MailboxArea{0x1080, 128};
-    mailbox.protocols = eni::kCoE;
+    mailbox.protocols = eni::kCoE | eni::kFoE | eni::kEoE | eni::kSoE;
     mailbox.coe_init_cmds = {init_cmd(0x2000, 0, 300), init_cmd(0x2001, 1, 2), init_cmd(0x2001, 3, 4),
                              init_cmd(0x1601, 0, 2 + 4 * 8, true)};
     d.mailbox = mailbox;
@@ -85,12 +91,30 @@ sim::EscDescription drive() {
     return d;
 }
 
+eni::SoeInitCmd soe_cmd(std::uint8_t drive, std::uint16_t idn, std::size_t size) {
+    eni::SoeInitCmd cmd;
+    cmd.drive_no = drive;
+    cmd.idn = idn;
+    cmd.data.assign(size, 0x5A);
+    return cmd;
+}
+
+std::vector<std::unique_ptr<sim::MailboxProtocol>> protocols(sim::CoeSlaveContext& slave, std::size_t sm1_size) {
+    std::vector<std::unique_ptr<sim::MailboxProtocol>> all;
+    all.push_back(std::make_unique<sim::CoeServer>(sim::ObjectDictionary::for_slave(drive()), slave, sm1_size));
+    auto foe = std::make_unique<sim::FoeServer>(sm1_size, sm1_size, 4096);
+    foe->put_file("fw", std::vector<std::uint8_t>(300, 0x11));
+    all.push_back(std::move(foe));
+    all.push_back(std::make_unique<sim::EoeServer>());
+    all.push_back(std::make_unique<sim::SoeServer>(std::vector<eni::SoeInitCmd>{soe_cmd(0, 32, 2), soe_cmd(1, 0x8001, 600)}));
+    return all;
+}
+
 struct Target {
-    explicit Target(std::size_t sm1_size)
-        : outbox(sm1_size), server(sim::ObjectDictionary::for_slave(drive()), slave, sm1_size) {}
+    explicit Target(std::size_t sm1_size) : outbox(sm1_size), server(slave, sm1_size, protocols(slave, sm1_size)) {}
     FakeSlave slave;
     CheckingOutbox outbox;
-    sim::CoeServer server;
+    sim::MailboxServer server;
 };
 
 constexpr std::array<std::size_t, 5> kSm1Sizes = {9, 16, 40, 128, 1004};
@@ -108,7 +132,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (size == 0) return 0;
 
     // Byte 0: bits 0-2 the server, bits 3-4 the AL state, bit 5 stops the
-    // mailbox first, bit 6 lets the master read SM1 first.
+    // mailbox first, bit 6 lets the master read SM1 first, bit 7 sends an
+    // emergency first.
     const std::uint8_t control = data[0];
     Target& target = *targets[(control & 0x07u) % targets.size()];
     target.slave.state = kStates[(control >> 3) & 0x03u];
@@ -116,6 +141,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if ((control & 0x40u) != 0) {
         target.outbox.master_read();
         target.server.on_reply_read(target.outbox);
+    }
+    if ((control & 0x80u) != 0) {
+        wire::CoeEmergency emergency;
+        emergency.error_code = 0x8130;
+        (void)target.server.send_unsolicited(wire::MailboxType::CoE, sim::CoeServer::emergency(emergency),
+                                             target.outbox);
     }
     target.server.on_request(ConstBytes(data + 1, size - 1), target.outbox);
     return 0;
