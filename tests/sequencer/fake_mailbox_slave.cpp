@@ -77,7 +77,7 @@ void FakeMailboxSlave::on_request(const std::vector<std::uint8_t>& buffer) {
         h.type = wire::MailboxType::CoE;
         h.encode(message);
         wire::CoeHeader{0, wire::CoeService::Emergency}.encode(Bytes(message).subspan(wire::MailboxHeader::kSize));
-        message[kOverhead] = 0x10;  // error code 0x8110-ish, content does not matter here
+        message[kOverhead] = 0x10;  // error code 0x8110 (CAN overrun)
         message[kOverhead + 1] = 0x81;
         post(std::move(message));
     }

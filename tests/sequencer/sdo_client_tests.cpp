@@ -27,7 +27,8 @@ std::vector<std::uint8_t> counting_bytes(std::size_t n) {
 struct SdoFixture {
     FakeMailboxSlave slave;
     VirtualClock clock;
-    SdoClient client{slave, clock, FakeMailboxSlave::channel()};
+    sequencer::MailboxTransport transport{slave, clock, FakeMailboxSlave::channel()};
+    SdoClient client{transport, clock};
 };
 
 TEST_CASE_METHOD(SdoFixture, "SDO download: expedited, normal and segmented", "[sequencer][sdo]") {
@@ -122,10 +123,14 @@ TEST_CASE_METHOD(SdoFixture, "A full SM0 is written again until the slave takes 
     CHECK(slave.objects[{0x6060, 0}] == std::vector<std::uint8_t>{8});
 }
 
-TEST_CASE_METHOD(SdoFixture, "An emergency before the answer is skipped", "[sequencer][sdo]") {
+TEST_CASE_METHOD(SdoFixture, "An emergency before the answer goes to the emergency handler", "[sequencer][sdo]") {
     slave.objects[{0x6060, 0}] = {0};
     slave.emergency_first = true;
+    std::vector<wire::CoeEmergency> emergencies;
+    transport.set_emergency_handler([&emergencies](const wire::CoeEmergency& e) { emergencies.push_back(e); });
     REQUIRE(client.download(0x6060, 0, std::vector<std::uint8_t>{8}, false));
+    REQUIRE(emergencies.size() == 1);
+    CHECK(emergencies[0].error_code == 0x8110);
 }
 
 TEST_CASE_METHOD(SdoFixture, "No answer: timeout", "[sequencer][sdo]") {
@@ -164,8 +169,9 @@ TEST_CASE("after a takeover the SDO client continues after the partner's counter
     sequencer::MailboxTransport old_master(slave, clock, FakeMailboxSlave::channel());
     REQUIRE(old_master.send(request, clock.now() + std::chrono::seconds(1), {}));
 
-    SdoClient new_master(slave, clock, FakeMailboxSlave::channel());
-    new_master.continue_after(5);
+    sequencer::MailboxTransport new_transport(slave, clock, FakeMailboxSlave::channel());
+    new_transport.continue_after(5);
+    SdoClient new_master(new_transport, clock);
     const auto value = new_master.upload(0x6000, 1, false);
     REQUIRE(value);
     CHECK(*value == std::vector<std::uint8_t>{0x11, 0x22});

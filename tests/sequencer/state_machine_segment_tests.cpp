@@ -13,6 +13,8 @@
 #include <atomic>
 
 #include "ecpair/common/bytes.hpp"
+#include "ecpair/sim/eoe_server.hpp"
+#include "ecpair/wire/eoe.hpp"
 #include "ecpair/wire/esc_registers.hpp"
 #include "fakes.hpp"
 #include "segment_fixture.hpp"
@@ -82,6 +84,30 @@ TEST_CASE("INIT -> OP -> INIT with real ENIs including their CoE InitCmds", "[se
     const auto name = GENERATE(as<std::string>{}, "twincat_cherryecat_cia402_1slave.xml",
                                "ecengineer_rocos_elmo_3slaves_bcr.xml", "advantech_amax4270_1slave.xml");
     up_and_down(load_eni_copy(name));
+}
+
+// Issue 27: EoE InitCmds run, not skipped: Elmo's EAS writes the set-IP data
+// without the EoE header (PS), EC-Engineer with it (IP), and the SoE drive
+// of soe_eoe_drive_2slaves has SoE InitCmds too.
+TEST_CASE("INIT -> OP -> INIT with EoE and SoE InitCmds; the slaves hold the IP parameters the ENI sets",
+          "[sequencer][sm][segment][coe-server][eoe]") {
+    const auto [name, slave, ip] = GENERATE(table<std::string, std::size_t, std::string>(
+        {{"elmo_eas_rocos_1slave.xml", 1, "192.168.1.4"},
+         {"ecengineer_murrelektronik_encrypted_2slaves.xml", 2, "192.168.0.102"},
+         {"eni_extra/soe_eoe_drive_2slaves.xml", 2, "10.0.0.2"}}));
+    const std::shared_ptr<const eni::EniConfig> eni = load_eni_copy(name);
+    SimulatedBus sim(*eni);
+    VirtualClock clock;
+    FakeCyclicMaster cyclic;
+    MasterStateMachine machine(eni, sim.bus, cyclic.hooks(), nullptr, clock);
+    const auto up = run_to(machine, MasterState::Op);
+    INFO(name << ": " << (up ? up->message : std::string("reached OP")));
+    REQUIRE_FALSE(up);
+    const auto* eoe = sim.segment.slave(slave).eoe_server();
+    REQUIRE(eoe != nullptr);
+    REQUIRE(eoe->ip_parameters().ip);
+    CHECK(wire::ipv4_text(*eoe->ip_parameters().ip) == ip);
+    REQUIRE_FALSE(run_to(machine, MasterState::Init));
 }
 
 // Issue 11, findings 1 and 2, and a tree (item 3): synthetic ENIs of the

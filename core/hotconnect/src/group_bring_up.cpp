@@ -7,7 +7,6 @@
 #include "ecpair/eni/identification.hpp"
 #include "ecpair/sequencer/dc_start_time.hpp"
 #include "ecpair/sequencer/identification_update.hpp"
-#include "ecpair/sequencer/mailbox_transport.hpp"
 #include "ecpair/wire/al_status.hpp"
 #include "ecpair/wire/esc_registers.hpp"
 
@@ -41,7 +40,13 @@ eni::EcatCmd for_one_slave(const eni::EcatCmd& broadcast, const eni::Slave& slav
 
 GroupBringUp::GroupBringUp(std::shared_ptr<const eni::EniConfig> eni, bus::BusAccess& bus, sequencer::Clock& clock,
                            std::function<void(master::EventKind, std::uint32_t, std::uint32_t)> raise)
-    : eni_(std::move(eni)), bus_(bus), clock_(clock), raise_(std::move(raise)), init_cmds_(bus, clock) {}
+    : eni_(std::move(eni)),
+      bus_(bus),
+      clock_(clock),
+      raise_(std::move(raise)),
+      init_cmds_(bus, clock),
+      mailboxes_(*eni_, bus, clock),
+      mailbox_init_cmds_(clock) {}
 
 GroupBringUp::~GroupBringUp() = default;
 
@@ -64,16 +69,6 @@ sequencer::CommandContext GroupBringUp::context_for(const BringUpRequest& reques
         context.dc = dc;
     }
     return context;
-}
-
-sequencer::SdoClient* GroupBringUp::sdo_client(std::size_t index) {
-    if (const auto found = sdo_clients_.find(index); found != sdo_clients_.end()) return found->second.get();
-    const auto channel = sequencer::mailbox_channel_of(eni_->slaves[index]);
-    if (!channel) return nullptr;
-    auto client = std::make_unique<sequencer::SdoClient>(bus_, clock_, *channel);
-    auto* raw = client.get();
-    sdo_clients_.emplace(index, std::move(client));
-    return raw;
 }
 
 // The state all the slaves are in (by their station address), nullopt when they
@@ -202,15 +197,7 @@ std::optional<BringUpFailure> GroupBringUp::run_slave(const BringUpRequest& requ
             }
             continue;
         }
-        const auto& coe = std::get<eni::CoeInitCmd>(step);
-        auto* sdo = sdo_client(plan.slave_index);
-        if (!sdo) {
-            return BringUpFailure{plan.slave_index,
-                                  fmt::format("{}, ENI line {}: CoE InitCmd but no mailbox configured",
-                                              slave_label(slave), coe.source_line),
-                                  std::nullopt};
-        }
-        if (auto r = coe_init_cmds_.run(*sdo, coe, context.describe(), stop); !r) {
+        if (auto r = mailbox_init_cmds_.run(mailboxes_.find(plan.slave_index), step, context.describe(), stop); !r) {
             return BringUpFailure{plan.slave_index, r.error().describe(), std::nullopt};
         }
     }

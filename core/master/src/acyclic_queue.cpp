@@ -114,6 +114,11 @@ void AcyclicQueue::refuse(std::optional<bus::BusErrc> reason) {
     }
 }
 
+std::optional<bus::BusErrc> AcyclicQueue::refusal() const {
+    std::lock_guard lock(mutex_);
+    return refusal_;
+}
+
 void AcyclicQueue::finish(Pending& pending, std::optional<bus::BusError> error) {
     Waiter& waiter = *pending.waiter;
     std::lock_guard lock(waiter.mutex);

@@ -191,6 +191,7 @@ std::string EventDescriber::describe(const Event& e) const {
         case EventKind::BusMismatch:
             return prefix + fmt::format("bus mismatch at position {} (configured there: {})", e.a + 1,
                                         slave_at_position(e.a + 1));
+        case EventKind::CoeEmergency: return prefix + fmt::format("slave {}: {}", slave(e.a), coe_emergency_text(e));
         default: break;
     }
     return master::describe(e);

@@ -7,6 +7,7 @@
 
 #include "ecpair/master/frame_tracker.hpp"
 #include "ecpair/wire/al_status.hpp"
+#include "ecpair/wire/coe.hpp"
 
 namespace ecpair::master {
 namespace {
@@ -240,6 +241,7 @@ std::string_view to_string(EventKind kind) {
         case EventKind::SlaveIdentificationUpdated: return "slave-identification-updated";
         case EventKind::PortLoopChanged: return "port-loop-changed";
         case EventKind::CycleStall: return "cycle-stall";
+        case EventKind::CoeEmergency: return "coe-emergency";
         case EventKind::CommTimeout: return "comm-timeout";
         case EventKind::AllLinksLost: return "all-links-lost";
         case EventKind::LinksRestored: return "links-restored";
@@ -342,6 +344,8 @@ std::string describe(const Event& e) {
                                         "in time (other processes or the host), or the cycle ran that long; the "
                                         "skipped cycles sent nothing",
                                         e.b, e.a);
+        case EventKind::CoeEmergency:
+            return prefix + fmt::format("slave {}: {}", e.a, coe_emergency_text(e));
         case EventKind::CommTimeout: return prefix + comm_timeout_text(e);
         case EventKind::AllLinksLost:
             return prefix + (e.a != 0 ? std::string("all links lost (MAIN and RED down): this ACTIVE master becomes "
@@ -465,6 +469,13 @@ std::vector<Event> EventQueue::pop_all(std::chrono::milliseconds timeout) {
 std::uint64_t EventQueue::dropped() const {
     std::lock_guard lock(mutex_);
     return dropped_;
+}
+
+std::string coe_emergency_text(const Event& e) {
+    const auto code = static_cast<std::uint16_t>(e.b);
+    return fmt::format("CoE emergency 0x{:04x} ({}), error register 0x{:02x}, data {:02x} {:02x} {:02x} {:02x} {:02x}",
+                       code, wire::emergency_error_class(code), (e.b >> 16) & 0xFF, e.c & 0xFF, (e.c >> 8) & 0xFF,
+                       (e.c >> 16) & 0xFF, e.c >> 24, e.d & 0xFF);
 }
 
 }  // namespace ecpair::master

@@ -1,6 +1,8 @@
 // SM0 writes and SM1 reads of whole mailbox buffers (see the header). Every
 // loop waits one poll interval between two datagrams and ends at its
-// deadline or on a stop request.
+// deadline or on a stop request. Messages are checked here only as far as
+// the mailbox header (and, for emergencies, the CoE header) goes; the
+// protocol clients decode the rest.
 
 #include "ecpair/sequencer/mailbox_transport.hpp"
 
@@ -8,6 +10,7 @@
 
 #include <fmt/format.h>
 
+#include "ecpair/common/hex.hpp"
 #include "ecpair/common/log.hpp"
 #include "ecpair/wire/datagram.hpp"
 #include "ecpair/wire/esc_registers.hpp"
@@ -29,7 +32,7 @@ bus::DatagramRequest fprd(std::uint16_t station, std::uint16_t ado, std::size_t 
     return request;
 }
 
-MailboxError stopped() { return MailboxError{MailboxFailure::Stopped, std::nullopt, "stopped"}; }
+MailboxError stopped() { return MailboxError{MailboxFailure::Stopped, std::nullopt, 0, "stopped"}; }
 
 }  // namespace
 
@@ -78,13 +81,13 @@ Expected<std::optional<bus::DatagramReply>, MailboxError> MailboxTransport::poll
     if (code == bus::BusErrc::Timeout || code == bus::BusErrc::LinkFailure) {
         return std::optional<bus::DatagramReply>();
     }
-    return unexpected(MailboxError{MailboxFailure::Bus, code, reply.error().message});
+    return unexpected(MailboxError{MailboxFailure::Bus, code, 0, reply.error().message});
 }
 
 Expected<void, MailboxError> MailboxTransport::send(ConstBytes message, Clock::time_point deadline,
                                                     std::stop_token stop) {
     if (message.size() > channel_.send.length) {
-        return unexpected(MailboxError{MailboxFailure::TooLong, std::nullopt,
+        return unexpected(MailboxError{MailboxFailure::TooLong, std::nullopt, 0,
                                        fmt::format("{}-byte message does not fit the {}-byte mailbox of station {}",
                                                    message.size(), channel_.send.length, channel_.station)});
     }
@@ -106,7 +109,7 @@ Expected<void, MailboxError> MailboxTransport::send(ConstBytes message, Clock::t
         if (clock_.now() >= deadline) break;
         clock_.sleep_for(kPollInterval, stop);
     }
-    return unexpected(MailboxError{MailboxFailure::Timeout, std::nullopt,
+    return unexpected(MailboxError{MailboxFailure::Timeout, std::nullopt, 0,
                                    fmt::format("mailbox of station {} stays full (SM0 write not accepted)",
                                                channel_.station)});
 }
@@ -132,7 +135,7 @@ Expected<std::vector<std::uint8_t>, MailboxError> MailboxTransport::receive(Cloc
         if (clock_.now() >= deadline) break;
         clock_.sleep_for(kPollInterval, stop);
     }
-    return unexpected(MailboxError{MailboxFailure::Timeout, std::nullopt,
+    return unexpected(MailboxError{MailboxFailure::Timeout, std::nullopt, 0,
                                    fmt::format("no mailbox reply from station {}", channel_.station)});
 }
 
@@ -143,8 +146,89 @@ Expected<void, MailboxError> MailboxTransport::discard_stale_reply(std::stop_tok
     if (!*full) return {};
     auto reply = poll(fprd(channel_.station, channel_.recv.start, channel_.recv.length));
     if (!reply) return unexpected(std::move(reply).error());
+    if (*reply && (*reply)->wkc == 1 && take_emergency((*reply)->data)) return {};
     logger("sequencer")->info("station {}: dropped a stale mailbox reply", channel_.station);
     return {};
+}
+
+Expected<void, MailboxError> MailboxTransport::send_message(wire::MailboxType type, ConstBytes payload,
+                                                            Clock::time_point deadline, std::stop_token stop) {
+    if (auto drained = discard_stale_reply(stop); !drained) return drained;
+    drain_before_send_ = false;
+    std::vector<std::uint8_t> message(wire::MailboxHeader::kSize + payload.size());
+    wire::MailboxHeader header;
+    header.length = static_cast<std::uint16_t>(payload.size());
+    header.type = type;
+    header.counter = next_counter();
+    header.encode(message);
+    std::copy(payload.begin(), payload.end(), message.begin() + wire::MailboxHeader::kSize);
+    return send(message, deadline, stop);
+}
+
+Expected<std::vector<std::uint8_t>, MailboxError> MailboxTransport::receive_message(wire::MailboxType type,
+                                                                                    Clock::time_point deadline,
+                                                                                    std::stop_token stop) {
+    for (;;) {
+        auto buffer = receive(deadline, stop);
+        if (!buffer) return unexpected(std::move(buffer).error());
+        auto message = take_message(type, *buffer);
+        if (!message) return unexpected(std::move(message).error());
+        if (*message) return std::move(**message);
+    }
+}
+
+Expected<std::optional<std::vector<std::uint8_t>>, MailboxError> MailboxTransport::take_message(wire::MailboxType type,
+                                                                                               ConstBytes buffer) {
+    const auto header = wire::MailboxHeader::decode(buffer);
+    if (!header) {
+        return unexpected(MailboxError{MailboxFailure::Malformed, std::nullopt, 0,
+                                       fmt::format("station {}: a reply whose mailbox header does not fit the "
+                                                   "{}-byte mailbox", channel_.station, buffer.size())});
+    }
+    const auto body = buffer.subspan(wire::MailboxHeader::kSize, header->length);
+    if (header->type == wire::MailboxType::Error) {
+        const auto reply = wire::MailboxErrorReply::decode(body);
+        const std::uint16_t detail = reply ? reply->detail : 0;
+        return unexpected(MailboxError{MailboxFailure::ErrorReply, std::nullopt, detail,
+                                       fmt::format("mailbox error 0x{:04x} ({})", detail,
+                                                   wire::mailbox_error_text(detail))});
+    }
+    if (take_emergency(buffer)) return std::optional<std::vector<std::uint8_t>>();
+    if (header->type != type) {
+        logger("sequencer")->debug("station {}: skipped a mailbox message of type {} while waiting for type {}",
+                                   channel_.station, static_cast<unsigned>(header->type),
+                                   static_cast<unsigned>(type));
+        return std::optional<std::vector<std::uint8_t>>();
+    }
+    return std::optional<std::vector<std::uint8_t>>(std::vector<std::uint8_t>(body.begin(), body.end()));
+}
+
+bool MailboxTransport::take_emergency(ConstBytes buffer) {
+    const auto header = wire::MailboxHeader::decode(buffer);
+    if (!header || header->type != wire::MailboxType::CoE) return false;
+    const auto body = buffer.subspan(wire::MailboxHeader::kSize, header->length);
+    const auto coe = wire::CoeHeader::decode(body);
+    if (!coe || coe->service != wire::CoeService::Emergency) return false;
+    const auto emergency = wire::CoeEmergency::decode(body.subspan(wire::CoeHeader::kSize));
+    if (!emergency) {
+        logger("sequencer")->warn("station {}: a CoE emergency too short to read: {}", channel_.station,
+                                  to_hex(body, " "));
+        return true;
+    }
+    if (emergency_handler_) {
+        emergency_handler_(*emergency);
+    } else {
+        logger("sequencer")->warn("station {}: CoE emergency 0x{:04x} ({}), error register 0x{:02x}, data {}",
+                                  channel_.station, emergency->error_code,
+                                  wire::emergency_error_class(emergency->error_code), emergency->error_register,
+                                  to_hex(emergency->data, " "));
+    }
+    return true;
+}
+
+void MailboxTransport::dispatch_unsolicited(ConstBytes buffer) {
+    if (take_emergency(buffer)) return;
+    logger("sequencer")->debug("station {}: dropped a mailbox message nobody waited for", channel_.station);
 }
 
 }  // namespace ecpair::sequencer

@@ -1,7 +1,7 @@
 // The worker of the master state machine (see the header). The worker
-// owns the runners, the SDO clients and the position shifts; the mutex
-// guards only what other threads read (target, current state, last error,
-// presence).
+// owns the runners and the position shifts; the mutex guards only what
+// other threads read (target, current state, last error, presence). The
+// slaves' mailboxes guard themselves (one conversation at a time).
 
 #include "ecpair/sequencer/master_state_machine.hpp"
 
@@ -44,7 +44,7 @@ std::string_view to_string(SequenceFailure failure) {
         case SequenceFailure::BusMismatch: return "bus mismatch";
         case SequenceFailure::ScanFailed: return "scan failed";
         case SequenceFailure::InitCmd: return "InitCmd failed";
-        case SequenceFailure::CoeInitCmd: return "CoE InitCmd failed";
+        case SequenceFailure::MailboxInitCmd: return "mailbox InitCmd failed";
         case SequenceFailure::CyclicStateNotApplied: return "cyclic state not applied";
         case SequenceFailure::MasterInactive: return "master is INACTIVE";
         case SequenceFailure::Cancelled: return "cancelled";
@@ -63,6 +63,9 @@ MasterStateMachine::MasterStateMachine(std::shared_ptr<const eni::EniConfig> eni
       clock_(clock),
       options_(options),
       init_cmds_(bus, clock, options.init_cmds),
+      own_mailboxes_(options.mailboxes ? nullptr : std::make_unique<SlaveMailboxes>(*eni_, bus, clock)),
+      mailboxes_(options.mailboxes ? *options.mailboxes : *own_mailboxes_),
+      mailbox_init_cmds_(clock),
       position_shift_(eni_->slaves.size(), 0),
       present_(eni_->slaves.size(), true),
       thread_([this](std::stop_token stop) { worker(stop); }) {}
@@ -307,18 +310,9 @@ std::optional<SequenceError> MasterStateMachine::run_slave(const SlavePlan& plan
             }
             continue;
         }
-        const auto& coe = std::get<eni::CoeInitCmd>(step);
-        auto* sdo = sdo_client(plan.slave_index);
-        if (!sdo) {
-            return SequenceError{SequenceFailure::CoeInitCmd, *transition_source(t), *transition_target(t),
-                                 plan.slave_index,
-                                 fmt::format("transition {}: {}, ENI line {}: CoE InitCmd but no mailbox configured",
-                                             eni::to_string(t), context.describe(), coe.source_line)};
-        }
-        if (auto r = coe_init_cmds_.run(*sdo, coe, context.describe(), stop); !r) {
-            const auto& sdo_error = r.error().sdo;
-            auto failure = quiet_failure(sdo_error.bus_error).value_or(SequenceFailure::CoeInitCmd);
-            if (sdo_error.failure == SdoFailure::Stopped) failure = SequenceFailure::Stopped;
+        if (auto r = mailbox_init_cmds_.run(mailboxes_.find(plan.slave_index), step, context.describe(), stop); !r) {
+            auto failure = quiet_failure(r.error().bus_error).value_or(SequenceFailure::MailboxInitCmd);
+            if (r.error().stopped) failure = SequenceFailure::Stopped;
             return SequenceError{failure, *transition_source(t), *transition_target(t), plan.slave_index,
                                  fmt::format("transition {}: {}", eni::to_string(t), r.error().describe())};
         }
@@ -431,31 +425,7 @@ CommandContext MasterStateMachine::context_for(std::size_t slave_index) const {
 }
 
 void MasterStateMachine::continue_mailbox_counters(const std::vector<std::uint8_t>& last_counters) {
-    std::lock_guard lock(mutex_);
-    for (std::size_t i = 0; i < last_counters.size() && i < eni_->slaves.size(); ++i) {
-        inherited_counters_[i] = last_counters[i];
-    }
-}
-
-// On the worker thread: SdoClients are only touched here, so a counter
-// inherited at a takeover is applied at the client's next use.
-SdoClient* MasterStateMachine::sdo_client(std::size_t slave_index) {
-    std::optional<std::uint8_t> inherited;
-    {
-        std::lock_guard lock(mutex_);
-        if (const auto it = inherited_counters_.find(slave_index); it != inherited_counters_.end()) {
-            inherited = it->second;
-            inherited_counters_.erase(it);
-        }
-    }
-    auto found = sdo_clients_.find(slave_index);
-    if (found == sdo_clients_.end()) {
-        const auto channel = mailbox_channel_of(eni_->slaves[slave_index]);
-        if (!channel) return nullptr;
-        found = sdo_clients_.emplace(slave_index, std::make_unique<SdoClient>(bus_, clock_, *channel)).first;
-    }
-    if (inherited) found->second->continue_after(*inherited);
-    return found->second.get();
+    mailboxes_.continue_after(last_counters);
 }
 
 SequenceError MasterStateMachine::from_init_cmd(const InitCmdError& error, eni::Transition t) const {

@@ -1,9 +1,10 @@
 // SDO transfers as a sequence of request/response pairs over the mailbox
-// transport. Each pair: drop a stale reply, write the request into SM0,
-// read SM1 until an SDO response arrives (emergencies and other protocols
-// are skipped), then check that it answers this request (command, object,
-// toggle bit). Sizes: a message is mailbox header (6) + CoE header (2) +
-// the SDO part, and must fit into SM0's Send Length.
+// transport. Each pair: write the request into SM0 (send_message reads a
+// stale reply away first), read SM1 until a CoE message arrives
+// (emergencies and other protocols are the transport's), then check that it
+// answers this request (command, object, toggle bit). Sizes: a message is
+// mailbox header (6) + CoE header (2) + the SDO part, and must fit into
+// SM0's Send Length.
 
 #include "ecpair/sequencer/sdo_client.hpp"
 
@@ -11,7 +12,6 @@
 
 #include <fmt/format.h>
 
-#include "ecpair/common/hex.hpp"
 #include "ecpair/common/log.hpp"
 #include "ecpair/wire/mailbox.hpp"
 
@@ -40,6 +40,24 @@ struct SdoClient::Transfer {
     }
 };
 
+SdoError sdo_error_from(const MailboxError& e, std::uint16_t index, std::uint8_t subindex, const std::string& prefix) {
+    SdoError error;
+    switch (e.failure) {
+        case MailboxFailure::Timeout: error.failure = SdoFailure::Timeout; break;
+        case MailboxFailure::TooLong: error.failure = SdoFailure::TooLong; break;
+        case MailboxFailure::Bus: error.failure = SdoFailure::Bus; break;
+        case MailboxFailure::Stopped: error.failure = SdoFailure::Stopped; break;
+        case MailboxFailure::ErrorReply: error.failure = SdoFailure::MailboxError; break;
+        case MailboxFailure::Malformed: error.failure = SdoFailure::Protocol; break;
+    }
+    error.index = index;
+    error.subindex = subindex;
+    error.mailbox_error = e.error_reply;
+    error.bus_error = e.bus_error;
+    error.message = prefix + ": " + e.message;
+    return error;
+}
+
 std::string_view to_string(SdoFailure failure) {
     switch (failure) {
         case SdoFailure::Abort: return "aborted";
@@ -53,8 +71,7 @@ std::string_view to_string(SdoFailure failure) {
     return "?";
 }
 
-SdoClient::SdoClient(bus::BusAccess& bus, Clock& clock, MailboxChannel channel)
-    : transport_(bus, clock, channel), clock_(clock) {}
+SdoClient::SdoClient(MailboxTransport& transport, Clock& clock) : transport_(transport), clock_(clock) {}
 
 Expected<void, SdoError> SdoClient::download(std::uint16_t index, std::uint8_t subindex, ConstBytes data,
                                              bool complete_access, std::chrono::milliseconds timeout,
@@ -154,66 +171,35 @@ Expected<std::vector<std::uint8_t>, SdoError> SdoClient::upload(std::uint16_t in
 }
 
 Expected<wire::SdoMessage, SdoError> SdoClient::transact(const Transfer& transfer, const wire::SdoMessage& request) {
-    const auto from_mailbox = [&transfer](MailboxError e) {
-        const auto failure = e.failure == MailboxFailure::Timeout   ? SdoFailure::Timeout
-                             : e.failure == MailboxFailure::TooLong ? SdoFailure::TooLong
-                             : e.failure == MailboxFailure::Bus     ? SdoFailure::Bus
-                                                                    : SdoFailure::Stopped;
-        auto error = transfer.error(failure, e.message);
-        error.bus_error = e.bus_error;
-        return error;
+    const auto from_mailbox = [&transfer](const MailboxError& e) {
+        return sdo_error_from(e, transfer.index, transfer.subindex,
+                              fmt::format("SDO 0x{:04x}:{:02x} {}", transfer.index, transfer.subindex, transfer.what));
     };
-
-    if (auto drained = transport_.discard_stale_reply(transfer.stop); !drained) {
-        return unexpected(from_mailbox(std::move(drained).error()));
-    }
-    const std::size_t sdo_size = request.encoded_size();
-    std::vector<std::uint8_t> message(kFrameOverhead + sdo_size, 0);
-    wire::MailboxHeader header;
-    header.length = static_cast<std::uint16_t>(wire::CoeHeader::kSize + sdo_size);
-    header.type = wire::MailboxType::CoE;
-    header.counter = transport_.next_counter();
-    header.encode(message);
-    wire::CoeHeader{0, wire::CoeService::SdoRequest}.encode(Bytes(message).subspan(wire::MailboxHeader::kSize));
-    request.encode(Bytes(message).subspan(kFrameOverhead));
+    std::vector<std::uint8_t> message(wire::CoeHeader::kSize + request.encoded_size(), 0);
+    wire::CoeHeader{0, wire::CoeService::SdoRequest}.encode(message);
+    request.encode(Bytes(message).subspan(wire::CoeHeader::kSize));
 
     const auto deadline = clock_.now() + transfer.timeout;
-    if (auto sent = transport_.send(message, deadline, transfer.stop); !sent) {
-        return unexpected(from_mailbox(std::move(sent).error()));
+    if (auto sent = transport_.send_message(wire::MailboxType::CoE, message, deadline, transfer.stop); !sent) {
+        return unexpected(from_mailbox(sent.error()));
     }
     for (;;) {
-        auto buffer = transport_.receive(deadline, transfer.stop);
-        if (!buffer) return unexpected(from_mailbox(std::move(buffer).error()));
-        auto reply = decode_reply(transfer, *buffer);
+        auto body = transport_.receive_message(wire::MailboxType::CoE, deadline, transfer.stop);
+        if (!body) return unexpected(from_mailbox(body.error()));
+        auto reply = decode_reply(transfer, *body);
         if (!reply) return unexpected(std::move(reply).error());
         if (*reply) return std::move(**reply);
     }
 }
 
-// nullopt: a message that is no answer to us (an emergency, another protocol): wait for the next one.
-Expected<std::optional<wire::SdoMessage>, SdoError> SdoClient::decode_reply(const Transfer& transfer,
-                                                                           ConstBytes buffer) {
-    const auto header = wire::MailboxHeader::decode(buffer);
-    if (!header) return unexpected(transfer.error(SdoFailure::Protocol, "malformed mailbox header in the reply"));
-    const auto body = buffer.subspan(wire::MailboxHeader::kSize, header->length);
-    if (header->type == wire::MailboxType::Error) {
-        const auto reply = wire::MailboxErrorReply::decode(body);
-        const std::uint16_t detail = reply ? reply->detail : 0;
-        auto error = transfer.error(SdoFailure::MailboxError,
-                                    fmt::format("mailbox error 0x{:04x} ({})", detail, wire::mailbox_error_text(detail)));
-        error.mailbox_error = detail;
-        return unexpected(std::move(error));
-    }
-    if (header->type != wire::MailboxType::CoE) {
-        logger("sequencer")->debug("station {}: skipped a mailbox message of type {}", transport_.channel().station,
-                                   static_cast<unsigned>(header->type));
-        return std::optional<wire::SdoMessage>();
-    }
+// nullopt: a CoE message that is no answer to us (SDO Information, a PDO): wait for the next one.
+Expected<std::optional<wire::SdoMessage>, SdoError> SdoClient::decode_reply(const Transfer& transfer, ConstBytes body) {
     const auto coe = wire::CoeHeader::decode(body);
     if (!coe) return unexpected(transfer.error(SdoFailure::Protocol, "CoE header missing in the reply"));
-    if (coe->service == wire::CoeService::Emergency) {
-        logger("sequencer")->warn("station {}: CoE emergency {} during {}", transport_.channel().station,
-                                  to_hex(body.subspan(wire::CoeHeader::kSize), " "), transfer.what);
+    if (coe->service == wire::CoeService::SdoInformation || coe->service == wire::CoeService::TxPdo ||
+        coe->service == wire::CoeService::RxPdo) {
+        logger("sequencer")->debug("station {}: skipped a CoE message of service {} during an SDO {}",
+                                   transport_.channel().station, static_cast<unsigned>(coe->service), transfer.what);
         return std::optional<wire::SdoMessage>();
     }
     // Slaves send an abort with either SDO service (SOES and others use the request service 2).

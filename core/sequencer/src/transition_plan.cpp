@@ -55,18 +55,24 @@ SlavePlan plan_slave(const eni::Slave& slave, std::size_t index, eni::Transition
             if (cmd.transitions.contains(t)) esc.push_back(cmd);
         }
     }
-    std::vector<eni::CoeInitCmd> coe;
+    // The mailbox InitCmds: CoE, then SoE, then EoE, each in ENI order.
+    std::vector<SlaveStep> mailbox;
     if (slave.mailbox) {
-        for (const auto& cmd : slave.mailbox->coe_init_cmds) {
-            if (cmd.transitions.contains(t) && !cmd.disabled) coe.push_back(cmd);
-        }
+        const auto take = [&mailbox, t](const auto& cmds) {
+            for (const auto& cmd : cmds) {
+                if (cmd.transitions.contains(t) && !cmd.disabled) mailbox.emplace_back(cmd);
+            }
+        };
+        take(slave.mailbox->coe_init_cmds);
+        take(slave.mailbox->soe_init_cmds);
+        take(slave.mailbox->eoe_init_cmds);
     }
     const auto split = t == eni::Transition::IP
                            ? esc.end()
                            : std::find_if(esc.begin(), esc.end(),
                                           [t](const eni::EcatCmd& c) { return requests_target(c, t); });
     for (auto it = esc.begin(); it != split; ++it) plan.steps.emplace_back(std::move(*it));
-    for (auto& cmd : coe) plan.steps.emplace_back(std::move(cmd));
+    for (auto& step : mailbox) plan.steps.push_back(std::move(step));
     for (auto it = split; it != esc.end(); ++it) plan.steps.emplace_back(std::move(*it));
     return plan;
 }

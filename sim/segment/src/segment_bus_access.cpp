@@ -45,6 +45,11 @@ void SegmentBusAccess::refuse(std::optional<bus::BusErrc> reason) {
     refusal_ = reason;
 }
 
+std::optional<bus::BusErrc> SegmentBusAccess::refusal() const {
+    std::lock_guard lock(mutex_);
+    return refusal_;
+}
+
 std::uint64_t SegmentBusAccess::frames() const {
     std::lock_guard lock(mutex_);
     return frames_;

@@ -7,6 +7,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -56,6 +57,10 @@ public:
     // order. This default exchanges them one after the other; the master's
     // acyclic queue sends them together and wakes the caller once.
     virtual std::vector<Expected<DatagramReply, BusError>> exchange_all(std::span<const DatagramRequest> requests);
+    // Why every request would be refused now (the master is INACTIVE, shutting
+    // down), nullopt while requests are taken: lets a caller refuse its own
+    // request at once instead of queuing it.
+    virtual std::optional<BusErrc> refusal() const { return std::nullopt; }
 };
 
 // How a single slave is addressed: by ring position (APxx) or by its

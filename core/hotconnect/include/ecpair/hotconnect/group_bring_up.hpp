@@ -2,7 +2,7 @@
 // Brings the slaves of Hot-Connect groups that just appeared to a state
 // while the rest of the bus stays where it is (hot-connect.md §3): for each
 // transition on the way (IP, PS, SO) the ENI's commands of those slaves
-// only, in the order of transition_plan.hpp (ESC InitCmds, CoE InitCmds),
+// only, in the order of transition_plan.hpp (ESC InitCmds, mailbox InitCmds),
 // addressed where the slaves are now (their auto-increment addresses moved
 // by their position shift). The master's own InitCmds of a transition are
 // broadcasts meant for a bus starting up: a write (BWR: clearing FMMUs,
@@ -19,7 +19,6 @@
 
 #include <cstdint>
 #include <functional>
-#include <map>
 #include <memory>
 #include <optional>
 #include <stop_token>
@@ -30,9 +29,9 @@
 #include "ecpair/eni/model.hpp"
 #include "ecpair/master/events.hpp"
 #include "ecpair/sequencer/clock.hpp"
-#include "ecpair/sequencer/coe_init_cmd_runner.hpp"
 #include "ecpair/sequencer/init_cmd_runner.hpp"
-#include "ecpair/sequencer/sdo_client.hpp"
+#include "ecpair/sequencer/mailbox_init_cmd_runner.hpp"
+#include "ecpair/sequencer/slave_mailboxes.hpp"
 #include "ecpair/sequencer/transition_plan.hpp"
 
 namespace ecpair::hotconnect {
@@ -78,15 +77,14 @@ private:
     // Slaves identified by an input word show the ENI's value in SAFEOP (else a failure).
     std::optional<BringUpFailure> check_input_words(const BringUpRequest& request);
     sequencer::CommandContext context_for(const BringUpRequest& request, std::size_t slave) const;
-    sequencer::SdoClient* sdo_client(std::size_t slave);
 
     std::shared_ptr<const eni::EniConfig> eni_;
     bus::BusAccess& bus_;
     sequencer::Clock& clock_;
     std::function<void(master::EventKind, std::uint32_t, std::uint32_t)> raise_;
     sequencer::InitCmdRunner init_cmds_;
-    sequencer::CoeInitCmdRunner coe_init_cmds_;
-    std::map<std::size_t, std::unique_ptr<sequencer::SdoClient>> sdo_clients_;
+    sequencer::SlaveMailboxes mailboxes_;
+    sequencer::MailboxInitCmdRunner mailbox_init_cmds_;
 };
 
 }  // namespace ecpair::hotconnect

@@ -35,6 +35,7 @@ public:
     // From now on refuse new requests with `reason`, and fail the pending ones
     // with it (nullopt: accept again).
     void refuse(std::optional<bus::BusErrc> reason);
+    std::optional<bus::BusErrc> refusal() const override;
 
     // ---- cycle thread
     std::size_t max_frames_per_cycle() const { return max_frames_per_cycle_; }
@@ -62,7 +63,7 @@ private:
     void finish(Pending& pending, std::optional<bus::BusError> error);
 
     const std::size_t max_frames_per_cycle_;
-    std::mutex mutex_;
+    mutable std::mutex mutex_;
     std::deque<Pending*> queue_;  // guarded by mutex_; nodes are owned by waiting callers
     std::optional<bus::BusErrc> refusal_;
     std::array<Batch, kMaxBatches> batches_{};  // cycle thread only

@@ -67,6 +67,9 @@ enum class EventKind : std::uint8_t {
     PortLoopChanged,             // a = station, b = port (0..3), c = loop setting (0 auto .. 3 closed), d = why
     // The cycle thread (CycleThread's stall): a = µs it woke after its deadline, b = deadlines skipped.
     CycleStall,
+    // A slave's CoE emergency (the mailbox service): a = slave index, b = error code | error register << 16,
+    // c = data bytes 0-3 (little-endian), d = data byte 4.
+    CoeEmergency,
 };
 
 // ---- what the supervisor's events carry (in a..d)
@@ -178,6 +181,10 @@ struct LostFrameDetail {
 // One line for logs and operators ("cycle 123: line break after slave 2"),
 // from the event alone; EventDescriber says more.
 std::string describe(const Event& event);
+
+// What a CoeEmergency event says about the emergency: "CoE emergency 0x8130
+// (communication), error register 0x11, data 01 02 03 04 05".
+std::string coe_emergency_text(const Event& event);
 
 // A bounded multi-producer queue: producers never wait for the consumer
 // (the lock is held only to copy one event), a full queue drops and counts.

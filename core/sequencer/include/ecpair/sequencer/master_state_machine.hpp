@@ -12,7 +12,8 @@
 //   - every present slave is first checked for an error flag in AL status;
 //     one in ERROR is reported (SlaveStateError) and acknowledged (AL control
 //     with bit 4) before its commands run, so a retry starts clean;
-//   - the commands run through InitCmdRunner / CoeInitCmdRunner;
+//   - the commands run through InitCmdRunner / MailboxInitCmdRunner (CoE,
+//     SoE, EoE), the latter over the slaves' shared mailboxes;
 //   - the cyclic master is told the new state (hooks) and the worker waits
 //     until it applies: after the slaves going up, before them going down
 //     (so the cyclic frames never expect more than the slaves do).
@@ -25,7 +26,6 @@
 #include <condition_variable>
 #include <cstdint>
 #include <functional>
-#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -37,9 +37,9 @@
 #include "ecpair/eni/model.hpp"
 #include "ecpair/master/events.hpp"
 #include "ecpair/sequencer/clock.hpp"
-#include "ecpair/sequencer/coe_init_cmd_runner.hpp"
 #include "ecpair/sequencer/init_cmd_runner.hpp"
-#include "ecpair/sequencer/sdo_client.hpp"
+#include "ecpair/sequencer/mailbox_init_cmd_runner.hpp"
+#include "ecpair/sequencer/slave_mailboxes.hpp"
 #include "ecpair/sequencer/startup_scan.hpp"
 #include "ecpair/sequencer/transition_plan.hpp"
 
@@ -49,7 +49,7 @@ enum class SequenceFailure : std::uint8_t {
     BusMismatch,            // the startup scan found the bus different from the ENI
     ScanFailed,             // the startup scan itself could not run
     InitCmd,                // an ESC or master InitCmd failed
-    CoeInitCmd,             // a CoE InitCmd failed
+    MailboxInitCmd,         // a CoE, SoE or EoE InitCmd failed
     CyclicStateNotApplied,  // the cyclic master did not take the new state in time
     MasterInactive,         // the bus refused: the master is INACTIVE
     Cancelled,              // the bus cancelled the request (master shutting down or changing role)
@@ -89,6 +89,9 @@ struct StateMachineHooks {
 struct StateMachineOptions {
     std::chrono::milliseconds cyclic_state_timeout{1000};
     InitCmdOptions init_cmds;
+    // The slaves' mailboxes, shared with the mailbox service (null: the state
+    // machine keeps its own). Must outlive the state machine.
+    SlaveMailboxes* mailboxes = nullptr;
 };
 
 class MasterStateMachine {
@@ -108,7 +111,7 @@ public:
     void adopt(MasterState state);
     // After a takeover: the mailbox counters the previous ACTIVE used last,
     // per slave in ENI order (0: none seen); each slave's next mailbox message
-    // continues after it (SdoClient::continue_after).
+    // continues after it (SlaveMailboxes::continue_after).
     void continue_mailbox_counters(const std::vector<std::uint8_t>& last_counters);
 
     MasterState target() const;
@@ -139,7 +142,6 @@ private:
     std::optional<SequenceError> apply_cyclic_state(MasterState state, eni::Transition t, std::stop_token stop);
     void acknowledge_error(std::size_t slave_index, eni::Transition t);
     CommandContext context_for(std::size_t slave_index) const;
-    SdoClient* sdo_client(std::size_t slave_index);
     SequenceError from_init_cmd(const InitCmdError& error, eni::Transition t) const;
     void raise(master::EventKind kind, std::uint32_t a = 0, std::uint32_t b = 0, std::uint32_t c = 0);
     void finish(MasterState target, std::optional<SequenceError> error);
@@ -151,12 +153,12 @@ private:
     Clock& clock_;
     StateMachineOptions options_;
     InitCmdRunner init_cmds_;
-    CoeInitCmdRunner coe_init_cmds_;
+    std::unique_ptr<SlaveMailboxes> own_mailboxes_;  // when none are given
+    SlaveMailboxes& mailboxes_;
+    MailboxInitCmdRunner mailbox_init_cmds_;
 
     // Worker-thread state (position_shift_ also written by update_presence, under the mutex).
     std::vector<std::uint16_t> position_shift_;
-    std::map<std::size_t, std::unique_ptr<SdoClient>> sdo_clients_;  // worker thread
-    std::map<std::size_t, std::uint8_t> inherited_counters_;          // guarded by mutex_, taken by sdo_client()
 
     mutable std::mutex mutex_;
     mutable std::condition_variable_any changed_;

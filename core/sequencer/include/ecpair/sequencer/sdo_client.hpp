@@ -7,9 +7,11 @@
 //             requested while the announced size has not arrived yet.
 // CompleteAccess sets the flag in the initiate message (always a normal
 // transfer, as SOEM does). Every request waits `timeout` for its answer;
-// emergencies arriving meanwhile are logged and skipped. Failures name the
-// object: SDO aborts with their code and text, mailbox error replies with
-// theirs, timeouts and malformed answers.
+// emergencies arriving meanwhile go to the transport's emergency handler.
+// Failures name the object: SDO aborts with their code and text, mailbox
+// error replies with theirs, timeouts and malformed answers.
+// The client talks through a slave's MailboxTransport, which the caller
+// holds for the conversation (SlaveMailbox::Session).
 
 #include <chrono>
 #include <cstdint>
@@ -49,11 +51,16 @@ struct SdoError {
     std::string message;  // "SDO 0x1c12:00 download aborted: 0x06010002 attempt to write a read-only object"
 };
 
+// A failure of the mailbox under an SDO or SDO Information transfer, as an
+// SdoError about `index`:`subindex` whose message starts with `prefix`.
+SdoError sdo_error_from(const MailboxError& error, std::uint16_t index, std::uint8_t subindex,
+                        const std::string& prefix);
+
 class SdoClient {
 public:
     static constexpr std::chrono::milliseconds kDefaultTimeout{3000};
 
-    SdoClient(bus::BusAccess& bus, Clock& clock, MailboxChannel channel);
+    SdoClient(MailboxTransport& transport, Clock& clock);
 
     Expected<void, SdoError> download(std::uint16_t index, std::uint8_t subindex, ConstBytes data,
                                       bool complete_access, std::chrono::milliseconds timeout = kDefaultTimeout,
@@ -63,17 +70,13 @@ public:
                                                          std::chrono::milliseconds timeout = kDefaultTimeout,
                                                          std::stop_token stop = {});
 
-    const MailboxChannel& channel() const { return transport_.channel(); }
-    // After a takeover (MailboxTransport::continue_after).
-    void continue_after(std::uint8_t last_counter) { transport_.continue_after(last_counter); }
-
 private:
     struct Transfer;
     // Sends one SDO request and returns the SDO response to it.
     Expected<wire::SdoMessage, SdoError> transact(const Transfer& transfer, const wire::SdoMessage& request);
-    Expected<std::optional<wire::SdoMessage>, SdoError> decode_reply(const Transfer& transfer, ConstBytes buffer);
+    Expected<std::optional<wire::SdoMessage>, SdoError> decode_reply(const Transfer& transfer, ConstBytes body);
 
-    MailboxTransport transport_;
+    MailboxTransport& transport_;
     Clock& clock_;
 };
 

@@ -7,9 +7,9 @@
 //   2. per present slave, in ring order:
 //        its ESC InitCmds of T up to (not including) the AL control write
 //        that requests T's target state,
-//        its CoE InitCmds of T,
+//        its mailbox InitCmds of T: CoE, then SoE, then EoE,
 //        the rest of its ESC InitCmds of T (AL control, the Validate on 0x0130);
-//      for IP the CoE InitCmds come last instead: the mailbox only runs from PREOP on;
+//      for IP the mailbox InitCmds come last instead: the mailbox only runs from PREOP on;
 //   3. master InitCmds of T without BeforeSlave.
 // A slave whose ENI entry has no ESC InitCmds at all (Advantech) gets the
 // minimum made up from its ENI data (synthesized_init_cmds.hpp).
@@ -41,7 +41,7 @@ std::optional<eni::Transition> next_transition(MasterState current, MasterState 
 std::optional<MasterState> transition_source(eni::Transition t);
 std::optional<MasterState> transition_target(eni::Transition t);
 
-using SlaveStep = std::variant<eni::EcatCmd, eni::CoeInitCmd>;
+using SlaveStep = std::variant<eni::EcatCmd, eni::CoeInitCmd, eni::SoeInitCmd, eni::EoeInitCmd>;
 
 struct SlavePlan {
     std::size_t slave_index = 0;  // into EniConfig::slaves

@@ -25,6 +25,7 @@ public:
     Expected<bus::DatagramReply, bus::BusError> exchange(const bus::DatagramRequest& request) override;
 
     void refuse(std::optional<bus::BusErrc> reason);
+    std::optional<bus::BusErrc> refusal() const override;
     std::uint64_t frames() const;
     // Runs `f` on the segment while no frame is travelling (faults, inspection).
     void with_segment(const std::function<void(Segment&)>& f);
