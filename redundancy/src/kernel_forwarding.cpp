@@ -154,7 +154,7 @@ void KernelForwarding::set_link_state(master::LinkRole role, bool up) {
     set_control(role == master::LinkRole::Main ? ECPAIR_KFWD_UP_MAIN : ECPAIR_KFWD_UP_RED, up ? 1 : 0);
 }
 
-void KernelForwarding::set_answer(ConstBytes master_pd_in, ConstBytes standby_status) {
+Expected<void, int> KernelForwarding::set_answer(ConstBytes master_pd_in, ConstBytes standby_status) {
     std::lock_guard lock(mutex_);
     auto* answer = reinterpret_cast<ecpair_kfwd_answer*>(answer_.data());
     const std::size_t pd_in = std::min(master_pd_in.size(), master_pd_in_size_);
@@ -166,11 +166,11 @@ void KernelForwarding::set_answer(ConstBytes master_pd_in, ConstBytes standby_st
     // Write the slot the program does not read, then point it there.
     const std::uint32_t next = answer_slot_ ^ 1u;
     if (bpf_map_update_elem(bpf_map__fd(skeleton_->maps.answer), &next, answer, BPF_ANY) != 0) {
-        logger("redundancy")->warn("kernel store-and-forward: cannot update its answer: {}", system_error(errno));
-        return;
+        return unexpected(errno);  // the caller raises kernel-answer-not-updated (it may repeat every cycle)
     }
     set_control(ECPAIR_KFWD_ANSWER_SLOT, next);
     answer_slot_ = next;
+    return {};
 }
 
 std::size_t KernelForwarding::slots() const { return ECPAIR_KFWD_BRIDGE_SLOTS; }

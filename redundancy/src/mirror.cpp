@@ -6,6 +6,7 @@
 #include <fmt/ranges.h>
 
 #include "ecpair/common/log.hpp"
+#include "ecpair/redundancy/redundancy_events.hpp"
 #include "ecpair/wire/frame.hpp"
 
 namespace ecpair::redundancy {
@@ -128,16 +129,16 @@ namespace {
 
 std::uint32_t difference_mask(const PairParameters& ours, const PairParameters& theirs) {
     std::uint32_t mask = 0;
-    if (ours.eni_content_hash != theirs.eni_content_hash) mask |= master::kDiffersEni;
-    if (ours.cycle_time != theirs.cycle_time) mask |= master::kDiffersCycleTime;
-    if (ours.cable_redundancy != theirs.cable_redundancy) mask |= master::kDiffersCableRedundancy;
-    if (ours.split_lrw != theirs.split_lrw) mask |= master::kDiffersSplitLrw;
-    if (ours.master_pd_out_size != theirs.master_pd_out_size) mask |= master::kDiffersMasterPdOut;
-    if (ours.master_pd_in_size != theirs.master_pd_in_size) mask |= master::kDiffersMasterPdIn;
-    if (ours.update_slave_pd_in != theirs.update_slave_pd_in) mask |= master::kDiffersUpdateSlavePdIn;
-    if (ours.update_slave_pd_out != theirs.update_slave_pd_out) mask |= master::kDiffersUpdateSlavePdOut;
-    if (ours.max_acyc_frames_per_cycle != theirs.max_acyc_frames_per_cycle) mask |= master::kDiffersMaxAcycFrames;
-    return mask == 0 ? master::kDiffersLayout : mask;
+    if (ours.eni_content_hash != theirs.eni_content_hash) mask |= kDiffersEni;
+    if (ours.cycle_time != theirs.cycle_time) mask |= kDiffersCycleTime;
+    if (ours.cable_redundancy != theirs.cable_redundancy) mask |= kDiffersCableRedundancy;
+    if (ours.split_lrw != theirs.split_lrw) mask |= kDiffersSplitLrw;
+    if (ours.master_pd_out_size != theirs.master_pd_out_size) mask |= kDiffersMasterPdOut;
+    if (ours.master_pd_in_size != theirs.master_pd_in_size) mask |= kDiffersMasterPdIn;
+    if (ours.update_slave_pd_in != theirs.update_slave_pd_in) mask |= kDiffersUpdateSlavePdIn;
+    if (ours.update_slave_pd_out != theirs.update_slave_pd_out) mask |= kDiffersUpdateSlavePdOut;
+    if (ours.max_acyc_frames_per_cycle != theirs.max_acyc_frames_per_cycle) mask |= kDiffersMaxAcycFrames;
+    return mask == 0 ? kDiffersLayout : mask;
 }
 
 }  // namespace
@@ -154,7 +155,7 @@ void Mirror::report_mismatch(master::LinkRole arrived_on) {
     if (mismatch_ == text) return;
     mismatch_ = text;
     logger("mirror")->error("the partner differs, not mirroring it (cold standby): {}", text);
-    events_.raise(master::EventKind::PartnerMismatch, difference_mask(ours, header->parameters));
+    events_.raise(events::kPartnerMismatch, difference_mask(ours, header->parameters));
 }
 
 void Mirror::reset() {

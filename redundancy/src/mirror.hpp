@@ -29,7 +29,7 @@
 #include <vector>
 
 #include "ecpair/master/cyclic_plan.hpp"
-#include "ecpair/master/events.hpp"
+#include "ecpair/master/event_queue.hpp"
 #include "ecpair/master/link_role.hpp"
 #include "ecpair/master/slave_state_image.hpp"
 #include "ecpair/redundancy/cmf_assembler.hpp"

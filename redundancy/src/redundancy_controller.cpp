@@ -20,6 +20,7 @@
 #include <fmt/format.h>
 
 #include "ecpair/common/log.hpp"
+#include "ecpair/redundancy/redundancy_events.hpp"
 #include "ecpair/redundancy/cmf_format.hpp"
 #include "ecpair/redundancy/cmf_inactive.hpp"
 #include "ecpair/wire/frame.hpp"
@@ -154,7 +155,9 @@ void RedundancyController::publish_kernel_answer() {
     std::array<std::uint8_t, CmfStandbyStatus::kSize> status{};
     standby_status().encode(status);
     std::lock_guard lock(pd_in_mutex_);
-    kernel_->set_answer(pd_in_to_send_, status);
+    if (auto set = kernel_->set_answer(pd_in_to_send_, status); !set) {
+        events_.raise(events::kKernelAnswerNotUpdated, static_cast<std::uint32_t>(set.error()));
+    }
 }
 
 void RedundancyController::observe_forwarded(master::LinkRole arrived_on, ConstBytes frame, SteadyTime at) {
@@ -203,8 +206,8 @@ void RedundancyController::set_link_state(master::LinkRole role, bool up) {
     if (kernel_) kernel_->set_link_state(role, up);
 }
 
-void RedundancyController::raise(master::EventKind kind, std::uint32_t a, std::uint32_t b) {
-    events_.push(master::Event{kind, cycle_, std::chrono::system_clock::now(), a, b, 0, 0});
+void RedundancyController::raise(master::EventKind kind, std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+    events_.push(master::Event{kind, cycle_, std::chrono::system_clock::now(), a, b, c, 0});
 }
 
 bool RedundancyController::mirror_fresh() const {
@@ -321,8 +324,8 @@ void RedundancyController::change_role(RedState to, master::ProcessImage& image)
                     from_mirror ? fmt::format("from the mirror of the partner's cycle {}", mirrored_->cycle)
                     : own       ? std::string("back where this master left the slaves")
                                 : std::string("no fresh mirror"));
-        raise(master::EventKind::RedStateChanged, as_number(from), as_number(to));
-        raise(master::EventKind::Takeover, change.hot ? 1 : 0, static_cast<std::uint32_t>(change.master_state));
+        raise(events::kRedStateChanged, as_number(from), as_number(to));
+        raise(events::kTakeover, change.hot ? 1 : 0, static_cast<std::uint32_t>(change.master_state));
     } else {
         left_bus_ = LeftBus{std::chrono::steady_clock::now(), master_.state()};
         master_.set_sending(false);
@@ -336,7 +339,7 @@ void RedundancyController::change_role(RedState to, master::ProcessImage& image)
         start_kernel_forwarding();
         log()->warn("now INACTIVE: sending stops, store-and-forward ({}) and mirror from the partner",
                     to_string(kernel_forwarding_.load() ? ForwardingPath::Kernel : ForwardingPath::User));
-        raise(master::EventKind::RedStateChanged, as_number(from), as_number(to));
+        raise(events::kRedStateChanged, as_number(from), as_number(to));
     }
     if (channel_) channel_->role_changed(to == RedState::Active);
     if (on_role_change_) on_role_change_(change);
@@ -460,7 +463,9 @@ void RedundancyController::send_frames(master::FrameSender& sender, std::uint64_
     if (options_.parameters.update_slave_pd_in) content.shadow_inputs = image_->inputs();
     content.master_pd_out = master_pd_out_;
     if (auto written = writer_.write(content, sender); !written) {
-        log()->error("CMF not sent: {}", written.error().describe());
+        const auto& error = written.error();
+        raise(events::kCmfNotSent, static_cast<std::uint32_t>(error.what), static_cast<std::uint32_t>(error.expected),
+              static_cast<std::uint32_t>(error.actual));
         return;
     }
     history_.record(cycle, image_->inputs(), image_->outputs(), content.master_state, false);

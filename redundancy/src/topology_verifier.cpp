@@ -7,6 +7,7 @@
 #include "ecpair/bus/bus_scan.hpp"
 #include "ecpair/bus/eni_comparison.hpp"
 #include "ecpair/common/log.hpp"
+#include "ecpair/redundancy/redundancy_events.hpp"
 
 namespace ecpair::redundancy {
 
@@ -55,7 +56,7 @@ void TopologyVerifier::run(const std::stop_token& stop, const std::vector<master
             if (c.is_mismatch()) logger("redundancy")->error("  {}", c.describe());
         }
     }
-    events_.raise(master::EventKind::TopologyVerified, ok ? 1u : 0u, static_cast<std::uint32_t>(report->responding),
+    events_.raise(events::kTopologyVerified, ok ? 1u : 0u, static_cast<std::uint32_t>(report->responding),
                   static_cast<std::uint32_t>(present));
 }
 

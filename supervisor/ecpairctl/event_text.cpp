@@ -14,12 +14,19 @@ std::string local_time_of(std::int64_t unix_time_ms) {
 }
 
 std::string event_line(const control::EventMessage& event) {
-    return fmt::format("{} {} {}", local_time_of(event.unix_time_ms()), event.kind(), event.text());
+    const std::string repeat = event.repeat().empty() ? std::string() : fmt::format(" ({})", event.repeat());
+    return fmt::format("{} {}{} {}", local_time_of(event.unix_time_ms()), event.kind(), repeat, event.text());
 }
 
+// A fault that repeats: the summaries' and the end's counts (the text says them too).
 void write_event_json(JsonWriter& json, const control::EventMessage& event) {
     json.begin_object().key("unix_time_ms").value(event.unix_time_ms()).key("cycle").value(event.cycle());
-    json.key("kind").value(event.kind()).key("text").value(event.text()).end_object();
+    json.key("kind").value(event.kind()).key("text").value(event.text());
+    if (!event.repeat().empty()) {
+        json.key("repeat").value(event.repeat()).key("count").value(event.count()).key("total").value(event.total());
+        json.key("first_cycle").value(event.first_cycle()).key("last_cycle").value(event.last_cycle());
+    }
+    json.end_object();
 }
 
 }  // namespace ecpair::ctl

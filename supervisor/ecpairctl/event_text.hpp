@@ -1,7 +1,9 @@
 #pragma once
 // One event of the operator API as ecpairctl prints it: a line for people
-// ("20:18:50.432 link-guard-links-down cycle 962: link guard took ...") or a
-// JSON object for scripts.
+// ("20:18:50.432 link-guard-links-down cycle 962: link guard took ...",
+// "20:18:51.000 cyclic-wkc-error (summary) cycle 1962: 1000 more ...") or a
+// JSON object for scripts (with repeat, count, total and the cycles for a
+// summary or an end).
 
 #include <string>
 

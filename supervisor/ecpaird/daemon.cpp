@@ -116,7 +116,7 @@ int Daemon::open() {
     if (redundancy_) cycle_thread_->set_phase_reference([this] { return redundancy_->phase_reference(); });
     cycle_thread_->set_stall_listener([this](std::chrono::nanoseconds late, std::uint64_t skipped) {
         const auto late_us = std::chrono::duration_cast<std::chrono::microseconds>(late).count();
-        events_.push(master::Event{master::EventKind::CycleStall, master_->cycle(), std::chrono::system_clock::now(),
+        events_.push(master::Event{master::events::kCycleStall, master_->cycle(), std::chrono::system_clock::now(),
                                    static_cast<std::uint32_t>(late_us), static_cast<std::uint32_t>(skipped), 0, 0});
     });
 
@@ -166,8 +166,8 @@ void Daemon::stop_threads() {
 
 void Daemon::pump_events() {
     while (!stopping_.load()) {
-        for (const auto& event : events_.pop_all(std::chrono::milliseconds(200))) {
-            auto message = to_message(event, *describer_);
+        for (const auto& report : events_.pop_all(std::chrono::milliseconds(200))) {
+            auto message = to_message(report, *describer_);
             log()->info("event {}: {}", message.kind(), message.text());
             boost::asio::post(io_, [this, message = std::move(message)] { control_server_->publish(message); });
         }

@@ -59,7 +59,7 @@ void HotConnectService::fill_summary(control::HotConnectSummary& out) const {
     }
     out.set_groups(groups);
     out.set_groups_present(present);
-    if (s.last_result) out.set_last_result(std::string(master::to_string(*s.last_result)));
+    if (s.last_result) out.set_last_result(std::string(hotconnect::to_string(*s.last_result)));
     out.set_changes(s.changes);
     out.set_slaves_on_bus(s.slaves_on_bus);
     out.set_mismatches(static_cast<std::uint32_t>(s.mismatches.size()));

@@ -152,17 +152,6 @@ std::string standby_kind(const std::optional<redundancy::CmfStandbyStatus>& s) {
     return s->hot ? "hot" : "cold";
 }
 
-std::string no_active_text(master::NoActiveReason reason) {
-    switch (reason) {
-        case master::NoActiveReason::ForcedStandby:
-            return "this member is forced to standby and no ACTIVE partner is heard";
-        case master::NoActiveReason::PartnerDiffers:
-            return "the only partner heard runs another ENI or other pair parameters and is silent";
-        case master::NoActiveReason::Isolated: return "both links of this member are down";
-    }
-    return "?";
-}
-
 }  // namespace
 
 void OperatorService::add_supervisor_status(const redundancy::RedundancySnapshot& pair,
@@ -186,7 +175,7 @@ void OperatorService::add_supervisor_status(const redundancy::RedundancySnapshot
     }
     out.set_partner_standby(standby_kind(pair.partner_status));
     out.set_handoff_cycle(s.handoff_cycle.value_or(0));
-    if (s.no_active) out.set_no_active(no_active_text(*s.no_active));
+    if (s.no_active) out.set_no_active(std::string(supervisor::to_string(*s.no_active)));
     out.set_takeovers(s.counters.takeovers);
     out.set_comm_timeouts(s.counters.comm_timeouts);
     out.set_collisions(s.counters.collisions);
@@ -241,12 +230,18 @@ control::ImageHistoryReply OperatorService::image_history(const control::ImageHi
     return reply;
 }
 
-control::EventMessage to_message(const master::Event& event, const master::EventDescriber& describer) {
+control::EventMessage to_message(const master::EventReport& report, const master::EventDescriber& describer) {
     control::EventMessage m;
-    m.set_cycle(event.cycle);
-    m.set_kind(std::string(master::to_string(event.kind)));
-    m.set_text(describer.describe(event));
-    m.set_unix_time_ms(std::chrono::duration_cast<std::chrono::milliseconds>(event.time.time_since_epoch()).count());
+    m.set_cycle(report.event.cycle);
+    m.set_kind(std::string(report.event.kind.name()));
+    m.set_text(describer.describe(report));
+    m.set_unix_time_ms(
+        std::chrono::duration_cast<std::chrono::milliseconds>(report.event.time.time_since_epoch()).count());
+    m.set_repeat(std::string(master::to_string(report.repetition)));
+    m.set_count(report.count);
+    m.set_total(report.total);
+    m.set_first_cycle(report.first_cycle);
+    m.set_last_cycle(report.last_cycle);
     return m;
 }
 

@@ -63,6 +63,6 @@ private:
 };
 
 // The event as the operator API carries it.
-control::EventMessage to_message(const master::Event& event, const master::EventDescriber& describer);
+control::EventMessage to_message(const master::EventReport& report, const master::EventDescriber& describer);
 
 }  // namespace ecpair::daemon

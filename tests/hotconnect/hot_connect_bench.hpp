@@ -17,7 +17,9 @@
 #include "ecpair/eni/loader.hpp"
 #include "ecpair/hotconnect/hot_connect.hpp"
 #include "ecpair/master/cyclic_plan.hpp"
-#include "ecpair/master/events.hpp"
+#include "ecpair/hotconnect/hot_connect_events.hpp"
+#include "ecpair/master/event_describer.hpp"
+#include "ecpair/master/master_events.hpp"
 #include "ecpair/master/slave_state_image.hpp"
 #include "ecpair/sequencer/master_state_machine.hpp"
 #include "ecpair/sim/eni_generator.hpp"
@@ -128,7 +130,8 @@ public:
                                             std::chrono::milliseconds timeout = std::chrono::seconds(10)) {
         const auto deadline = std::chrono::steady_clock::now() + timeout;
         while (std::chrono::steady_clock::now() < deadline) {
-            for (const auto& e : events.pop_all(std::chrono::milliseconds(20))) {
+            for (const auto& report : events.pop_all(std::chrono::milliseconds(20))) {
+                const master::Event& e = report.event;
                 seen.push_back(e);
                 if (done(e)) return e;
             }
@@ -146,7 +149,7 @@ public:
     }
     std::string seen_text() const {
         std::string text;
-        for (const auto& e : seen) text += master::describe(e) + "\n";
+        for (const auto& e : seen) text += master::EventDescriber(eni_, nullptr).describe(e) + "\n";
         return text;
     }
 

@@ -16,7 +16,7 @@ namespace {
 
 using hotconnect::GroupStatus;
 using master::EventKind;
-using master::TopologyResult;
+using hotconnect::TopologyResult;
 
 constexpr std::uint8_t kOp = 0x08;
 constexpr std::uint8_t kPreop = 0x02;
@@ -43,13 +43,13 @@ TEST_CASE("start-up with a group missing, then it is powered on and joins in OP"
     CHECK(bench.expected_of(wire::Command::Lrd) == std::uint16_t{5});
 
     bench.with_segment([](sim::Segment& s) { REQUIRE(s.set_group_power(2, true)); });
-    const auto done = bench.wait_event(EventKind::TopologyChangeDone);
+    const auto done = bench.wait_event(hotconnect::events::kTopologyChangeDone);
     INFO(bench.seen_text());
     REQUIRE(done);
     CHECK(done->a == static_cast<std::uint32_t>(TopologyResult::Ok));
     CHECK(done->b == 2);  // both optional groups present
-    CHECK(bench.saw(EventKind::DetectAddGroups));
-    CHECK(bench.saw(EventKind::SlavePresence, 4));  // ENI index of 2201
+    CHECK(bench.saw(hotconnect::events::kDetectAddGroups));
+    CHECK(bench.saw(master::events::kSlavePresence, 4));  // ENI index of 2201
     CHECK(bench.al_state(5) == kOp);
     CHECK(bench.al_state(6) == kOp);
     CHECK(status_of(*bench.hot_connect, 2) == GroupStatus::Present);
@@ -62,20 +62,20 @@ TEST_CASE("an optional group goes off: WKCs corrected, the rest stays in OP", "[
     HotConnectBench bench(grouped());
     bench.start();
     bench.with_segment([](sim::Segment& s) { REQUIRE(s.set_group_power(1, false)); });
-    const auto done = bench.wait_event(EventKind::TopologyChangeDone);
+    const auto done = bench.wait_event(hotconnect::events::kTopologyChangeDone);
     INFO(bench.seen_text());
     REQUIRE(done);
     CHECK(done->a == static_cast<std::uint32_t>(TopologyResult::Ok));
     CHECK(done->b == 1);
-    CHECK(bench.saw(EventKind::ProbeAllGroups));
-    CHECK(bench.saw(EventKind::SlavePresence, 1));
+    CHECK(bench.saw(hotconnect::events::kProbeAllGroups));
+    CHECK(bench.saw(master::events::kSlavePresence, 1));
     CHECK(status_of(*bench.hot_connect, 1) == GroupStatus::Absent);
     CHECK(bench.expected_of(wire::Command::Brd) == std::uint16_t{5});
     CHECK(bench.expected_of(wire::Command::Lrd) == std::uint16_t{5});
     for (const std::size_t p : std::vector<std::size_t>{1, 4, 5, 6, 7}) CHECK(bench.al_state(p) == kOp);
     // and back: it joins again (through INIT, it was powered off).
     bench.with_segment([](sim::Segment& s) { REQUIRE(s.set_group_power(1, true)); });
-    REQUIRE(bench.wait_event(EventKind::TopologyChangeDone));
+    REQUIRE(bench.wait_event(hotconnect::events::kTopologyChangeDone));
     CHECK(bench.al_state(2) == kOp);
     CHECK(bench.expected_of(wire::Command::Lrd) == std::uint16_t{7});
 }
@@ -84,13 +84,13 @@ TEST_CASE("a mandatory slave fails: the change completes with an error, WKCs kee
     HotConnectBench bench(grouped());
     bench.start();
     bench.with_segment([](sim::Segment& s) { REQUIRE(s.power_off(7)); });
-    const auto done = bench.wait_event(EventKind::TopologyChangeDone);
+    const auto done = bench.wait_event(hotconnect::events::kTopologyChangeDone);
     INFO(bench.seen_text());
     REQUIRE(done);
     CHECK(done->a == static_cast<std::uint32_t>(TopologyResult::MandatoryMissing));
     CHECK(bench.expected_of(wire::Command::Lrd) == std::uint16_t{7});  // so cyclic WKC errors show
     CHECK(bench.expected_of(wire::Command::Brd) == std::uint16_t{6});
-    CHECK(bench.saw(EventKind::SlavePresence, 6));
+    CHECK(bench.saw(master::events::kSlavePresence, 6));
 }
 
 TEST_CASE("an unknown slave plugged in is a mismatch, block node cuts it off, open blocked ports lets it in again",
@@ -98,12 +98,12 @@ TEST_CASE("an unknown slave plugged in is a mismatch, block node cuts it off, op
     HotConnectBench bench(grouped());
     bench.start();
     bench.with_segment([](sim::Segment& s) { REQUIRE(s.plug_unknown_slave(1, 2)); });
-    auto done = bench.wait_event(EventKind::TopologyChangeDone);
+    auto done = bench.wait_event(hotconnect::events::kTopologyChangeDone);
     INFO(bench.seen_text());
     REQUIRE(done);
     CHECK(done->a == static_cast<std::uint32_t>(TopologyResult::GroupsRefused));
-    CHECK(bench.saw(EventKind::BusMismatch));
-    CHECK(bench.saw(EventKind::BusMismatchPlace));
+    CHECK(bench.saw(master::events::kBusMismatch));
+    CHECK(bench.saw(master::events::kBusMismatchPlace));
     auto status = bench.hot_connect->status();
     REQUIRE(status.mismatches.size() == 1);
     CHECK(status.mismatches[0].previous_station == std::uint16_t{1001});
@@ -114,7 +114,7 @@ TEST_CASE("an unknown slave plugged in is a mismatch, block node cuts it off, op
     const auto blocked = bench.hot_connect->block_node(std::nullopt, std::nullopt);
     REQUIRE(blocked);
     CHECK(*blocked == hotconnect::PortRef{1001, 2});
-    done = bench.wait_event(EventKind::TopologyChangeDone);
+    done = bench.wait_event(hotconnect::events::kTopologyChangeDone);
     REQUIRE(done);
     CHECK(done->a == static_cast<std::uint32_t>(TopologyResult::Ok));
     CHECK(bench.hot_connect->status().mismatches.empty());
@@ -123,7 +123,7 @@ TEST_CASE("an unknown slave plugged in is a mismatch, block node cuts it off, op
     const auto opened = bench.hot_connect->open_blocked_ports();
     REQUIRE(opened);
     CHECK(opened->size() == 1);
-    done = bench.wait_event(EventKind::TopologyChangeDone);
+    done = bench.wait_event(hotconnect::events::kTopologyChangeDone);
     REQUIRE(done);
     CHECK(done->a == static_cast<std::uint32_t>(TopologyResult::GroupsRefused));
 }
@@ -134,7 +134,8 @@ TEST_CASE("a pinned group at the wrong port is refused and can be blocked", "[ho
     // Group 2 moves from junction 2 port D to junction 1 port C (it keeps its power: still in OP there).
     bench.with_segment([](sim::Segment& s) { REQUIRE(s.plug_group(2, 1, 2)); });
     const auto done = bench.wait_event([](const master::Event& e) {
-        return e.kind == EventKind::TopologyChangeDone && e.a != static_cast<std::uint32_t>(TopologyResult::Ok);
+        return e.kind == hotconnect::events::kTopologyChangeDone &&
+               e.a != static_cast<std::uint32_t>(TopologyResult::Ok);
     });
     INFO(bench.seen_text());
     REQUIRE(done);
@@ -152,7 +153,7 @@ TEST_CASE("a floating group is found at whatever port it is plugged into and joi
     bench.start();
     CHECK(status_of(*bench.hot_connect, 1) == GroupStatus::Absent);
     bench.with_segment([](sim::Segment& s) { REQUIRE(s.plug_group(1, 1, 3)); });
-    const auto done = bench.wait_event(EventKind::TopologyChangeDone);
+    const auto done = bench.wait_event(hotconnect::events::kTopologyChangeDone);
     INFO(bench.seen_text());
     REQUIRE(done);
     CHECK(done->a == static_cast<std::uint32_t>(TopologyResult::Ok));
@@ -165,7 +166,7 @@ TEST_CASE("a duplicate of a group head: the first found is used, the second is u
     HotConnectBench bench(grouped());
     bench.start();
     bench.with_segment([](sim::Segment& s) { REQUIRE(s.plug_duplicate(2, 4, 2)); });
-    const auto done = bench.wait_event(EventKind::TopologyChangeDone);
+    const auto done = bench.wait_event(hotconnect::events::kTopologyChangeDone);
     INFO(bench.seen_text());
     REQUIRE(done);
     const auto status = bench.hot_connect->status();
@@ -182,7 +183,7 @@ TEST_CASE("a group slave refusing SAFEOP leaves its group out, and block node lo
         REQUIRE(s.refuse_states_from(6, eni::SlaveState::Safeop));
         REQUIRE(s.set_group_power(2, true));
     });
-    const auto done = bench.wait_event(EventKind::TopologyChangeDone);
+    const auto done = bench.wait_event(hotconnect::events::kTopologyChangeDone);
     INFO(bench.seen_text());
     REQUIRE(done);
     CHECK(done->a == static_cast<std::uint32_t>(TopologyResult::BringUpFailed));
@@ -193,7 +194,7 @@ TEST_CASE("a group slave refusing SAFEOP leaves its group out, and block node lo
     INFO((blocked ? std::string() : blocked.error().message));
     REQUIRE(blocked);
     CHECK(*blocked == hotconnect::PortRef{1002, 3});
-    const auto again = bench.wait_event(EventKind::TopologyChangeDone);
+    const auto again = bench.wait_event(hotconnect::events::kTopologyChangeDone);
     REQUIRE(again);
     CHECK(again->a == static_cast<std::uint32_t>(TopologyResult::Ok));
     CHECK(status_of(*bench.hot_connect, 2) == GroupStatus::Absent);
@@ -207,12 +208,12 @@ TEST_CASE("manual, PREOP: a new group waits in PREOP for the accept", "[hotconne
     bench.start();
     CHECK_FALSE(bench.hot_connect->accept());  // nothing to accept yet
     bench.with_segment([](sim::Segment& s) { REQUIRE(s.set_group_power(1, true)); });
-    REQUIRE(bench.wait_event(EventKind::HotConnectAcceptPending));
+    REQUIRE(bench.wait_event(hotconnect::events::kHotConnectAcceptPending));
     CHECK(bench.al_state(2) == kPreop);
     CHECK(status_of(*bench.hot_connect, 1) == GroupStatus::AwaitingAccept);
     CHECK(bench.expected_of(wire::Command::Lrd) == std::uint16_t{5});
     REQUIRE(bench.hot_connect->accept());
-    const auto done = bench.wait_event(EventKind::TopologyChangeDone);
+    const auto done = bench.wait_event(hotconnect::events::kTopologyChangeDone);
     INFO(bench.seen_text());
     REQUIRE(done);
     CHECK(bench.al_state(2) == kOp);
@@ -227,10 +228,10 @@ TEST_CASE("manual, no reset: a new group keeps its state until the accept", "[ho
     bench.with_segment([](sim::Segment& s) { REQUIRE(s.set_group_power(1, false)); });
     bench.start();
     bench.with_segment([](sim::Segment& s) { REQUIRE(s.set_group_power(1, true)); });
-    REQUIRE(bench.wait_event(EventKind::HotConnectAcceptPending));
+    REQUIRE(bench.wait_event(hotconnect::events::kHotConnectAcceptPending));
     CHECK(bench.al_state(2) == kInit);
     REQUIRE(bench.hot_connect->accept());
-    REQUIRE(bench.wait_event(EventKind::TopologyChangeDone));
+    REQUIRE(bench.wait_event(hotconnect::events::kTopologyChangeDone));
     CHECK(bench.al_state(2) == kOp);
 }
 
@@ -239,16 +240,16 @@ TEST_CASE("border close: free ports are closed once running, a slave plugged the
     hc.border_close = true;
     HotConnectBench bench(grouped(), hc);
     bench.start();
-    REQUIRE(bench.wait_event(EventKind::TopologyChangeDone));
-    CHECK(bench.saw(EventKind::PortLoopChanged, 1001));  // junction 1 port C
+    REQUIRE(bench.wait_event(hotconnect::events::kTopologyChangeDone));
+    CHECK(bench.saw(hotconnect::events::kPortLoopChanged, 1001));  // junction 1 port C
     // A group's port stays open for it to come back; a free port does not let anybody in.
     bench.with_segment([](sim::Segment& s) {
         REQUIRE(s.set_group_power(1, false));
     });
-    REQUIRE(bench.wait_event(EventKind::TopologyChangeDone));
+    REQUIRE(bench.wait_event(hotconnect::events::kTopologyChangeDone));
     bench.with_segment([](sim::Segment& s) { REQUIRE(s.plug_unknown_slave(1, 2)); });
     bench.with_segment([](sim::Segment& s) { REQUIRE(s.set_group_power(1, true)); });
-    const auto done = bench.wait_event(EventKind::TopologyChangeDone);
+    const auto done = bench.wait_event(hotconnect::events::kTopologyChangeDone);
     INFO(bench.seen_text());
     REQUIRE(done);
     CHECK(done->a == static_cast<std::uint32_t>(TopologyResult::Ok));
@@ -267,19 +268,19 @@ TEST_CASE("identification by explicit device ID: the right ID joins, a wrong one
         REQUIRE(s.set_id_selector(2, 999));
         REQUIRE(s.set_group_power(1, true));
     });
-    auto done = bench.wait_event(EventKind::TopologyChangeDone);
+    auto done = bench.wait_event(hotconnect::events::kTopologyChangeDone);
     INFO(bench.seen_text());
     REQUIRE(done);
     CHECK(done->a == static_cast<std::uint32_t>(TopologyResult::GroupsRefused));
-    CHECK(bench.saw(EventKind::BusMismatchIdentification));
+    CHECK(bench.saw(master::events::kBusMismatchIdentification));
     CHECK(status_of(*bench.hot_connect, 1) == GroupStatus::Refused);
     bench.with_segment([](sim::Segment& s) {
         REQUIRE(s.set_id_selector(2, 101));
         REQUIRE(s.set_group_power(1, false));
     });
-    REQUIRE(bench.wait_event(EventKind::TopologyChangeDone));
+    REQUIRE(bench.wait_event(hotconnect::events::kTopologyChangeDone));
     bench.with_segment([](sim::Segment& s) { REQUIRE(s.set_group_power(1, true)); });
-    done = bench.wait_event(EventKind::TopologyChangeDone);
+    done = bench.wait_event(hotconnect::events::kTopologyChangeDone);
     REQUIRE(done);
     CHECK(done->a == static_cast<std::uint32_t>(TopologyResult::Ok));
     CHECK(bench.al_state(2) == kOp);
@@ -292,7 +293,7 @@ TEST_CASE("identification by input word is checked in SAFEOP", "[hotconnect][seg
     bench.with_segment([](sim::Segment& s) { REQUIRE(s.set_group_power(1, false)); });
     bench.start();
     bench.with_segment([](sim::Segment& s) { REQUIRE(s.set_group_power(1, true)); });
-    const auto done = bench.wait_event(EventKind::TopologyChangeDone);
+    const auto done = bench.wait_event(hotconnect::events::kTopologyChangeDone);
     INFO(bench.seen_text());
     REQUIRE(done);
     CHECK(done->a == static_cast<std::uint32_t>(TopologyResult::Ok));
@@ -309,11 +310,11 @@ TEST_CASE("ETG.1020 during a join: the slave refuses SAFEOP with 0x0061, goes th
         REQUIRE(s.set_legacy_id_selector(2, 101));
         REQUIRE(s.set_group_power(1, true));
     });
-    const auto done = bench.wait_event(EventKind::TopologyChangeDone);
+    const auto done = bench.wait_event(hotconnect::events::kTopologyChangeDone);
     INFO(bench.seen_text());
     REQUIRE(done);
     CHECK(done->a == static_cast<std::uint32_t>(TopologyResult::Ok));
-    CHECK(bench.saw(EventKind::SlaveIdentificationUpdated, 1));
+    CHECK(bench.saw(master::events::kSlaveIdentificationUpdated, 1));
     CHECK(bench.al_state(2) == kOp);
 }
 
@@ -324,7 +325,7 @@ TEST_CASE("a CoE drive group joins with its SDO InitCmds", "[hotconnect][segment
     bench.with_segment([](sim::Segment& s) { REQUIRE(s.set_group_power(1, false)); });
     bench.start();
     bench.with_segment([](sim::Segment& s) { REQUIRE(s.set_group_power(1, true)); });
-    const auto done = bench.wait_event(EventKind::TopologyChangeDone);
+    const auto done = bench.wait_event(hotconnect::events::kTopologyChangeDone);
     INFO(bench.seen_text());
     REQUIRE(done);
     CHECK(done->a == static_cast<std::uint32_t>(TopologyResult::Ok));

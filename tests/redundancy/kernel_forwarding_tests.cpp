@@ -183,7 +183,7 @@ struct KernelPath {
         REQUIRE(opened);
         kernel = std::move(*opened);
         kernel->set_forwarding(true);
-        kernel->set_answer(kPdIn, kStatus);
+        REQUIRE(kernel->set_answer(kPdIn, kStatus));
     }
 
     KernelForwardingVerdict run(LinkRole arrived_on, const Frame& frame) {
@@ -346,7 +346,7 @@ TEST_CASE("kernel path: the INACTIVE's part of the CMF on a frame's first pass",
     }
     SECTION("a new answer is used from the next frame on") {
         const std::vector<std::uint8_t> next(kPdIn.size(), 0x33);
-        kernel.kernel->set_answer(next, kStatus);
+        REQUIRE(kernel.kernel->set_answer(next, kStatus));
         const auto k = kernel.run(LinkRole::Main, cmf_frame(0x08));
         auto view = wire::ConstFrameView::parse(ConstBytes(k.frame));
         REQUIRE(view);

@@ -10,6 +10,7 @@
 #include <chrono>
 #include <memory>
 
+#include "ecpair/redundancy/redundancy_events.hpp"
 #include "ecpair/redundancy/topology_verifier.hpp"
 #include "segment_fixture.hpp"
 
@@ -43,8 +44,8 @@ std::vector<master::Event> verified_events(master::EventQueue& events, std::chro
     std::vector<master::Event> out;
     const auto until = std::chrono::steady_clock::now() + timeout;
     while (out.empty() && std::chrono::steady_clock::now() < until) {
-        for (const auto& e : events.pop_all(50ms)) {
-            if (e.kind == master::EventKind::TopologyVerified) out.push_back(e);
+        for (const auto& report : events.pop_all(50ms)) {
+            if (report.event.kind == redundancy::events::kTopologyVerified) out.push_back(report.event);
         }
     }
     return out;

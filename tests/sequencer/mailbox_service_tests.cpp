@@ -12,6 +12,7 @@
 #include <condition_variable>
 #include <mutex>
 
+#include "ecpair/master/event_describer.hpp"
 #include "ecpair/sequencer/mailbox_service.hpp"
 #include "fake_mailbox_slave.hpp"
 #include "fakes.hpp"
@@ -253,12 +254,12 @@ TEST_CASE_METHOD(ServiceFixture, "An emergency during a transfer becomes a coe-e
     REQUIRE(service->sdo_download(sequencer::SdoDownload{0, 0x6060, 0, {1}}).get());
     const auto seen = events.pop_all(std::chrono::milliseconds(0));
     REQUIRE(seen.size() == 1);
-    CHECK(seen[0].kind == master::EventKind::CoeEmergency);
-    const auto e = sequencer::CoeEmergencyEvent::from(seen[0]);
+    CHECK(seen[0].event.kind == master::events::kCoeEmergency);
+    const auto e = sequencer::CoeEmergencyEvent::from(seen[0].event);
     CHECK(e.slave == 0);
     CHECK(e.emergency.error_code == 0x8110);
-    CHECK(master::describe(seen[0]) ==
-          "cycle 0: slave 0: CoE emergency 0x8110 (communication), error register 0x00, data 00 00 00 00 00");
+    CHECK(master::EventDescriber(nullptr, nullptr).describe(seen[0]) ==
+          "cycle 0: slave #1 (not in the ENI): CoE emergency 0x8110 (communication), error register 0x00, data 00 00 00 00 00");
 }
 
 TEST_CASE_METHOD(ServiceFixture, "SII writes are guarded", "[sequencer][mailbox-service]") {
@@ -301,11 +302,11 @@ TEST_CASE("The poll of idle mailboxes finds an emergency the slave sent on its o
     emergency.error_code = 0xFF01;
     emergency.error_register = 0x80;
     sim.bus.with_segment([&](sim::Segment& s) { REQUIRE(s.send_emergency(2, emergency)); });
-    std::vector<master::Event> seen;
+    std::vector<master::EventReport> seen;
     const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(10);
     while (seen.empty() && std::chrono::steady_clock::now() < until) seen = events.pop_all(std::chrono::milliseconds(100));
     REQUIRE(seen.size() == 1);
-    const auto e = sequencer::CoeEmergencyEvent::from(seen[0]);
+    const auto e = sequencer::CoeEmergencyEvent::from(seen[0].event);
     CHECK(e.slave == 1);
     CHECK(e.emergency == emergency);
 }

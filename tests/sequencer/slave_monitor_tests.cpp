@@ -5,6 +5,7 @@
 #include <catch2/catch.hpp>
 
 #include "ecpair/eni/loader.hpp"
+#include "ecpair/master/master_events.hpp"
 #include "ecpair/sequencer/slave_monitor.hpp"
 #include "ecpair/wire/esc_registers.hpp"
 #include "fakes.hpp"
@@ -40,7 +41,11 @@ private:
     ScriptedBus::Handler handler_;
 };
 
-std::vector<master::Event> drain(master::EventQueue& events) { return events.pop_all(std::chrono::milliseconds(0)); }
+std::vector<master::Event> drain(master::EventQueue& events) {
+    std::vector<master::Event> out;
+    for (const auto& report : events.pop_all(std::chrono::milliseconds(0))) out.push_back(report.event);
+    return out;
+}
 
 }  // namespace
 
@@ -76,8 +81,8 @@ TEST_CASE("a monitor round reads every slave's AL status in one batch", "[sequen
     const auto raised = drain(events);
     int presence = 0, errors = 0;
     for (const auto& e : raised) {
-        if (e.kind == master::EventKind::SlavePresence) ++presence;
-        if (e.kind == master::EventKind::SlaveStateError) {
+        if (e.kind == master::events::kSlavePresence) ++presence;
+        if (e.kind == master::events::kSlaveStateError) {
             ++errors;
             CHECK(e.a == 2);
             CHECK(e.c == 0x001B);

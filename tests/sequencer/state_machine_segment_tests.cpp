@@ -13,6 +13,7 @@
 #include <atomic>
 
 #include "ecpair/common/bytes.hpp"
+#include "ecpair/master/master_events.hpp"
 #include "ecpair/sim/eoe_server.hpp"
 #include "ecpair/wire/eoe.hpp"
 #include "ecpair/wire/esc_registers.hpp"
@@ -63,11 +64,11 @@ void up_and_down(const std::shared_ptr<const eni::EniConfig>& eni) {
     CHECK(cyclic.applied().back() == eni::SlaveState::Init);
 
     const auto seen = events.pop_all(std::chrono::milliseconds(0));
-    CHECK(std::any_of(seen.begin(), seen.end(), [](const master::Event& e) {
-        return e.kind == master::EventKind::BusScanStatus && e.c == 1;
+    CHECK(std::any_of(seen.begin(), seen.end(), [](const master::EventReport& r) {
+        return r.event.kind == master::events::kBusScanStatus && r.event.c == 1;
     }));
     CHECK(std::none_of(seen.begin(), seen.end(),
-                       [](const master::Event& e) { return e.kind == master::EventKind::TransitionFailed; }));
+                       [](const master::EventReport& r) { return r.event.kind == master::events::kTransitionFailed; }));
 }
 
 TEST_CASE("INIT -> OP -> INIT with real ENIs whose CoE InitCmds are removed", "[sequencer][sm][segment]") {
@@ -184,12 +185,14 @@ TEST_CASE("A bus mismatch keeps the master in INIT and says why", "[sequencer][s
     const auto seen = events.pop_all(std::chrono::milliseconds(0));
     const auto has = [&seen](master::EventKind kind, std::uint32_t a, std::uint32_t b) {
         return std::any_of(seen.begin(), seen.end(),
-                           [&](const master::Event& e) { return e.kind == kind && e.a == a && e.b == b; });
+                           [&](const master::EventReport& r) {
+                               return r.event.kind == kind && r.event.a == a && r.event.b == b;
+                           });
     };
-    CHECK(has(master::EventKind::BusScanStatus, 2, 3));
-    CHECK(has(master::EventKind::BusMismatch, 2, static_cast<std::uint32_t>(bus::SlaveMatch::Missing)));
-    CHECK(has(master::EventKind::SlavePresence, 2, 0));
-    CHECK(has(master::EventKind::SlavePresence, 0, 1));
+    CHECK(has(master::events::kBusScanStatus, 2, 3));
+    CHECK(has(master::events::kBusMismatch, 2, static_cast<std::uint32_t>(bus::SlaveMatch::Missing)));
+    CHECK(has(master::events::kSlavePresence, 2, 0));
+    CHECK(has(master::events::kSlavePresence, 0, 1));
 }
 
 TEST_CASE("An absent Hot-Connect group is skipped and the slaves behind it reach OP", "[sequencer][sm][segment]") {
@@ -224,8 +227,8 @@ TEST_CASE("ETG.1020: a slave refusing SAFEOP with 0x0061 is taken through INIT a
     CHECK(all_in(sim, eni::SlaveState::Op));
     CHECK(sim.segment.slave(2).station_alias() == 7);
     const auto all = events.pop_all(std::chrono::milliseconds(0));
-    const bool updated = std::any_of(all.begin(), all.end(), [](const master::Event& e) {
-        return e.kind == master::EventKind::SlaveIdentificationUpdated && e.a == 1 && e.b == 7;
+    const bool updated = std::any_of(all.begin(), all.end(), [](const master::EventReport& r) {
+        return r.event.kind == master::events::kSlaveIdentificationUpdated && r.event.a == 1 && r.event.b == 7;
     });
     CHECK(updated);
 }
@@ -268,8 +271,9 @@ TEST_CASE("A slave in ERROR is acknowledged before its commands run", "[sequence
     REQUIRE_FALSE(error);
     CHECK(al_state(sim, 1) == 2);
     const auto seen = events.pop_all(std::chrono::milliseconds(0));
-    CHECK(std::any_of(seen.begin(), seen.end(), [](const master::Event& e) {
-        return e.kind == master::EventKind::SlaveStateError && e.a == 0 && (e.b & 0x10) != 0 && e.c == 0x0011;
+    CHECK(std::any_of(seen.begin(), seen.end(), [](const master::EventReport& r) {
+        return r.event.kind == master::events::kSlaveStateError && r.event.a == 0 && (r.event.b & 0x10) != 0 &&
+               r.event.c == 0x0011;
     }));
 }
 
@@ -297,8 +301,8 @@ TEST_CASE("A failing InitCmd stops the sequence with the slave, line and AL stat
                                    Catch::Contains("AL status PREOP+ERR, code 0x"));
     CHECK(machine.current() == MasterState::Preop);
     const auto seen = events.pop_all(std::chrono::milliseconds(0));
-    CHECK(std::any_of(seen.begin(), seen.end(), [](const master::Event& e) {
-        return e.kind == master::EventKind::TransitionFailed && e.a == 2 && e.b == 4 && e.c == 0;
+    CHECK(std::any_of(seen.begin(), seen.end(), [](const master::EventReport& r) {
+        return r.event.kind == master::events::kTransitionFailed && r.event.a == 2 && r.event.b == 4 && r.event.c == 0;
     }));
 }
 
@@ -322,7 +326,7 @@ TEST_CASE("A master that becomes INACTIVE mid-way stops quietly", "[sequencer][s
     CHECK(machine.current() == MasterState::Preop);
     const auto seen = events.pop_all(std::chrono::milliseconds(0));
     CHECK(std::none_of(seen.begin(), seen.end(),
-                       [](const master::Event& e) { return e.kind == master::EventKind::TransitionFailed; }));
+                       [](const master::EventReport& r) { return r.event.kind == master::events::kTransitionFailed; }));
 }
 
 // A PS that failed at its second slave leaves the first in SAFEOP, where its

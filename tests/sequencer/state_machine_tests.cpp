@@ -5,6 +5,7 @@
 #include <catch2/catch.hpp>
 
 #include "ecpair/eni/loader.hpp"
+#include "ecpair/master/master_events.hpp"
 #include "ecpair/sequencer/master_state_machine.hpp"
 #include "fakes.hpp"
 
@@ -48,8 +49,8 @@ TEST_CASE("An INACTIVE master stops the sequence at the first refusal, without a
         REQUIRE(done->error);
         CHECK(done->error->failure == SequenceFailure::MasterInactive);
     }
-    for (const auto& e : events.pop_all(std::chrono::milliseconds(0))) {
-        CHECK(e.kind != master::EventKind::TransitionFailed);
+    for (const auto& report : events.pop_all(std::chrono::milliseconds(0))) {
+        CHECK(report.event.kind != master::events::kTransitionFailed);
     }
 }
 

@@ -46,7 +46,7 @@ TEST_CASE("an acknowledgement of another cycle does not commit", "[supervisor]")
 }
 
 TEST_CASE("a hand-off needs a partner that answers as a hot standby with both links", "[supervisor]") {
-    using master::HandOffRefusal;
+    using supervisor::HandOffRefusal;
     const auto partner = hot_partner();
     CHECK_FALSE(handoff_refusal(partner, 5ms, 100ms));
     CHECK(handoff_refusal(std::nullopt, std::nullopt, 100ms) == HandOffRefusal::PartnerNotAnswering);

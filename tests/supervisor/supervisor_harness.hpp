@@ -9,7 +9,11 @@
 #include <chrono>
 #include <vector>
 
-#include "ecpair/master/events.hpp"
+#include "ecpair/arbitration/arbitration_events.hpp"
+#include "ecpair/master/event_describer.hpp"
+#include "ecpair/master/event_queue.hpp"
+#include "ecpair/redundancy/redundancy_events.hpp"
+#include "ecpair/supervisor/supervisor_events.hpp"
 #include "ecpair/supervisor/supervisor.hpp"
 #include "../arbitration/scripted_random.hpp"
 
@@ -46,7 +50,7 @@ public:
         ++seen.cycle;
         last = supervisor.decide(seen);
         if (last.role) seen.role = *last.role;
-        for (const auto& e : events.pop_all(std::chrono::milliseconds(0))) got.push_back(e);
+        for (const auto& r : events.pop_all(std::chrono::milliseconds(0))) got.push_back(r.event);
         return last;
     }
     void cycles(int n) {

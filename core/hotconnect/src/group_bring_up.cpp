@@ -4,8 +4,9 @@
 
 #include "ecpair/common/bytes.hpp"
 #include "ecpair/common/log.hpp"
+#include "ecpair/master/master_events.hpp"
 #include "ecpair/eni/identification.hpp"
-#include "ecpair/dc/start_time.hpp"
+#include "ecpair/sequencer/dc_start_time.hpp"
 #include "ecpair/sequencer/identification_update.hpp"
 #include "ecpair/wire/al_status.hpp"
 #include "ecpair/wire/esc_registers.hpp"
@@ -57,7 +58,17 @@ sequencer::CommandContext GroupBringUp::context_for(const BringUpRequest& reques
     context.station = slave.info.phys_addr;
     context.slave_index = index;
     context.position_shift = request.position_shift[index];
-    context.dc = dc::start_time_parameters(*eni_, index, request.present);
+    if (const auto reference = sequencer::reference_clock_index(*eni_, request.present)) {
+        sequencer::DcStartTimeParameters dc{bus::SlaveAddress::station(eni_->slaves[*reference].info.phys_addr), 0, 0};
+        if (slave.dc) {
+            dc.cycle_time_ns = slave.dc->cycle_time0_ns.value_or(0);
+            dc.shift_time_ns = slave.dc->shift_time_ns.value_or(0);
+        }
+        if (dc.cycle_time_ns == 0 && !eni_->cyclic.empty() && eni_->cyclic.front().cycle_time_us) {
+            dc.cycle_time_ns = *eni_->cyclic.front().cycle_time_us * 1000u;
+        }
+        context.dc = dc;
+    }
     return context;
 }
 
@@ -202,7 +213,9 @@ std::optional<BringUpFailure> GroupBringUp::recover(const BringUpRequest& reques
     const auto alias = sequencer::reinitialise_after_identification_update(
         bus_, clock_, bus::SlaveAddress::station(slave.info.phys_addr), kInitTimeout, stop);
     if (!alias) return BringUpFailure{plan.slave_index, "recovering from 0x0061: " + alias.error(), sequencer::kIdentificationUpdated};
-    if (raise_) raise_(master::EventKind::SlaveIdentificationUpdated, static_cast<std::uint32_t>(plan.slave_index), *alias);
+    if (raise_) {
+        raise_(master::events::kSlaveIdentificationUpdated, static_cast<std::uint32_t>(plan.slave_index), *alias);
+    }
     const auto& id = slave.info.identification;
     if (id && id->enabled && id->ado == eni::kStationAliasRegister && id->value && *id->value != 0 && *id->value != *alias) {
         return BringUpFailure{plan.slave_index,

@@ -15,6 +15,8 @@
 #include "ecpair/common/log.hpp"
 #include "ecpair/eni/eni_topology.hpp"
 #include "ecpair/hotconnect/group_bring_up.hpp"
+#include "ecpair/hotconnect/hot_connect_events.hpp"
+#include "ecpair/master/master_events.hpp"
 #include "ecpair/sequencer/bus_identification_probe.hpp"
 #include "ecpair/wire/al_status.hpp"
 #include "ecpair/wire/esc_registers.hpp"
@@ -24,7 +26,6 @@ namespace ecpair::hotconnect {
 namespace {
 
 using master::EventKind;
-using master::TopologyResult;
 using sequencer::MasterState;
 
 std::shared_ptr<spdlog::logger> log() { return logger("hotconnect"); }
@@ -32,6 +33,8 @@ std::shared_ptr<spdlog::logger> log() { return logger("hotconnect"); }
 constexpr std::uint32_t kNoValue = 0x10000;
 
 std::uint32_t port_number(char letter) { return static_cast<std::uint32_t>(letter - 'A'); }
+
+std::uint32_t code(PortLoopReason reason) { return static_cast<std::uint32_t>(reason); }
 
 OperationFailure failure(OperationError code, std::string message) { return OperationFailure{code, std::move(message)}; }
 
@@ -144,11 +147,11 @@ void HotConnect::on_startup_scan(const sequencer::ScanOutcome& outcome) {
         if (!c.is_mismatch()) continue;
         mismatches.push_back(mismatch_view(c));
         if (c.identification) {
-            raise(EventKind::BusMismatchIdentification, c.position, c.identification->ado,
+            raise(master::events::kBusMismatchIdentification, c.position, c.identification->ado,
                   c.identification->read ? *c.identification->read : kNoValue, c.identification->expected);
         }
         if (c.previous_station && c.previous_port && c.previous_position) {
-            raise(EventKind::BusMismatchPlace, c.position, *c.previous_station, port_number(*c.previous_port),
+            raise(master::events::kBusMismatchPlace, c.position, *c.previous_station, port_number(*c.previous_port),
                   *c.previous_position);
         }
     }
@@ -429,7 +432,7 @@ void HotConnect::run_change(std::stop_token stop) {
     // The expected WKCs leave the waiting groups out: deviations from now on are errors again.
     if (auto* watch = host_.topology_watch()) watch->settle();
     log()->warn("topology change: {} group(s) found, waiting for an accept (ecpairctl accept)", pending_.size());
-    raise(EventKind::HotConnectAcceptPending, static_cast<std::uint32_t>(pending_.size()), mask);
+    raise(events::kHotConnectAcceptPending, static_cast<std::uint32_t>(pending_.size()), mask);
 }
 
 // The slave count must hold still: two reads settle_gap apart that agree.
@@ -521,22 +524,24 @@ void HotConnect::apply_match(const bus::ScanReport& report, const bus::TopologyM
     notify_presence();
     if (!report_events) return;
 
-    raise(EventKind::BusScanStatus, report.responding, static_cast<std::uint32_t>(eni_->slaves.size()),
+    raise(master::events::kBusScanStatus, report.responding, static_cast<std::uint32_t>(eni_->slaves.size()),
           mismatches.empty() ? 1 : 0);
     for (const auto& c : match.comparisons) {
         if (!c.is_mismatch()) continue;
-        raise(EventKind::BusMismatch, c.position, static_cast<std::uint32_t>(c.match));
+        raise(master::events::kBusMismatch, c.position, static_cast<std::uint32_t>(c.match));
         if (c.identification) {
-            raise(EventKind::BusMismatchIdentification, c.position, c.identification->ado,
+            raise(master::events::kBusMismatchIdentification, c.position, c.identification->ado,
                   c.identification->read ? *c.identification->read : kNoValue, c.identification->expected);
         }
         if (c.previous_station && c.previous_port && c.previous_position) {
-            raise(EventKind::BusMismatchPlace, c.position, *c.previous_station, port_number(*c.previous_port),
+            raise(master::events::kBusMismatchPlace, c.position, *c.previous_station, port_number(*c.previous_port),
                   *c.previous_position);
         }
     }
     for (std::size_t i = 0; i < present_.size(); ++i) {
-        if (present_[i] != before[i]) raise(EventKind::SlavePresence, static_cast<std::uint32_t>(i), present_[i] ? 1 : 0);
+        if (present_[i] != before[i]) {
+            raise(master::events::kSlavePresence, static_cast<std::uint32_t>(i), present_[i] ? 1 : 0);
+        }
     }
     std::uint32_t present_groups = 0;
     for (const auto& g : groups_.groups()) present_groups += g.optional() && match.groups[g.number] == bus::GroupState::Present;
@@ -546,8 +551,8 @@ void HotConnect::apply_match(const bus::ScanReport& report, const bus::TopologyM
     }
     const auto result = static_cast<std::uint32_t>(change_result_);
     const auto optional = static_cast<std::uint32_t>(groups_.optional_count());
-    if (added) raise(EventKind::DetectAddGroups, result, optional, present_groups, mask);
-    if (removed) raise(EventKind::ProbeAllGroups, result, optional, present_groups, mask);
+    if (added) raise(events::kDetectAddGroups, result, optional, present_groups, mask);
+    if (removed) raise(events::kProbeAllGroups, result, optional, present_groups, mask);
 }
 
 void HotConnect::bring_up_pending(MasterState target, bool reset_first, std::stop_token stop) {
@@ -625,8 +630,8 @@ void HotConnect::close_borders() {
         }
         border_closed_.insert(key);
         log()->info("border close: {} closed (no group may join there)", describe(port));
-        raise(EventKind::PortLoopChanged, port.station, static_cast<std::uint32_t>(port.port),
-              static_cast<std::uint32_t>(LoopSetting::Closed), master::kPortBorderClose);
+        raise(events::kPortLoopChanged, port.station, static_cast<std::uint32_t>(port.port),
+              static_cast<std::uint32_t>(LoopSetting::Closed), code(PortLoopReason::BorderClose));
     }
 }
 
@@ -637,8 +642,8 @@ void HotConnect::finish(TopologyResult result) {
     const auto deviations = host_.wkc_topology_deviations() - deviations_at_start_;
     const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(clock_.now() - change_started_).count();
     log()->info("topology change done in {} ms: {}; {} of {} optional group(s) present, {} WKC deviation(s)", ms,
-                master::to_string(result), present_groups, groups_.optional_count(), deviations);
-    raise(EventKind::TopologyChangeDone, static_cast<std::uint32_t>(result), present_groups,
+                to_string(result), present_groups, groups_.optional_count(), deviations);
+    raise(events::kTopologyChangeDone, static_cast<std::uint32_t>(result), present_groups,
           static_cast<std::uint32_t>(groups_.optional_count()), static_cast<std::uint32_t>(deviations));
     std::lock_guard lock(mutex_);
     last_result_ = result;
@@ -757,8 +762,8 @@ Expected<PortRef, OperationFailure> HotConnect::block_node(std::optional<std::si
         return unexpected(failure(OperationError::Failed, set.error()));
     }
     log()->warn("block node: {} closed, what hangs behind it is cut off", describe(*port));
-    raise(EventKind::PortLoopChanged, port->station, static_cast<std::uint32_t>(port->port),
-          static_cast<std::uint32_t>(LoopSetting::Closed), master::kPortBlockNode);
+    raise(events::kPortLoopChanged, port->station, static_cast<std::uint32_t>(port->port),
+          static_cast<std::uint32_t>(LoopSetting::Closed), code(PortLoopReason::BlockNode));
     std::lock_guard lock(mutex_);
     if (std::find(blocked_.begin(), blocked_.end(), *port) == blocked_.end()) blocked_.push_back(*port);
     return *port;
@@ -782,8 +787,8 @@ Expected<std::vector<PortRef>, OperationFailure> HotConnect::open_blocked_ports(
         }
         opened.push_back(port);
         log()->info("open blocked ports: {} back to auto", describe(port));
-        raise(EventKind::PortLoopChanged, port.station, static_cast<std::uint32_t>(port.port),
-              static_cast<std::uint32_t>(LoopSetting::Auto), master::kPortOpenBlocked);
+        raise(events::kPortLoopChanged, port.station, static_cast<std::uint32_t>(port.port),
+              static_cast<std::uint32_t>(LoopSetting::Auto), code(PortLoopReason::OpenBlocked));
     }
     std::lock_guard lock(mutex_);
     blocked_ = left;
@@ -809,8 +814,8 @@ Expected<void, OperationFailure> HotConnect::set_port(std::uint16_t station, int
     }
     border_closed_.erase(std::make_pair(station, port));
     log()->info("station {} port {}: loop setting {} (operator)", station, eni::port_letter(port), to_string(setting));
-    raise(EventKind::PortLoopChanged, station, static_cast<std::uint32_t>(port), static_cast<std::uint32_t>(setting),
-          master::kPortByOperator);
+    raise(events::kPortLoopChanged, station, static_cast<std::uint32_t>(port), static_cast<std::uint32_t>(setting),
+          code(PortLoopReason::ByOperator));
     return {};
 }
 

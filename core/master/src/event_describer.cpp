@@ -1,6 +1,8 @@
 // The texts follow one pattern: what happened, to which frame / slave, and
 // what the master did about it. Slaves are named as the ENI names them,
 // with the 1-based ring position operators count and the station address.
+// A summary reads "N more in the last 1.0 s (cycles F-L; T since cycle S)"
+// followed by each subject's latest event and its count.
 
 #include "ecpair/master/event_describer.hpp"
 
@@ -10,7 +12,6 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
-#include "ecpair/master/frame_tracker.hpp"
 #include "ecpair/wire/al_status.hpp"
 #include "ecpair/wire/datagram.hpp"
 #include "ecpair/wire/esc_registers.hpp"
@@ -29,13 +30,47 @@ bool writes_fmmu(const eni::EcatCmd& cmd) {
            cmd.ado < wire::reg::kSmBase && cmd.data.size() >= wire::FmmuConfig::kSize;
 }
 
+std::string seconds_text(std::chrono::nanoseconds span) {
+    return fmt::format("{:.1f} s", std::chrono::duration<double>(span).count());
+}
+
 }  // namespace
 
 EventDescriber::EventDescriber(std::shared_ptr<const eni::EniConfig> eni, const CyclicPlan* plan)
     : eni_(std::move(eni)), plan_(plan) {}
 
+std::string EventDescriber::describe(const Event& e) const {
+    return fmt::format("cycle {}: {}", e.cycle, e.kind.type().describe(e, *this));
+}
+
+std::string EventDescriber::subjects_text(const EventReport& report) const {
+    std::vector<std::string> parts;
+    parts.reserve(report.subjects.size() + 1);
+    for (const SubjectCount& s : report.subjects) {
+        parts.push_back(fmt::format("{} x {}", s.count, s.last.kind.type().describe(s.last, *this)));
+    }
+    if (report.other > 0) parts.push_back(fmt::format("{} of other subjects", report.other));
+    return fmt::format("{}", fmt::join(parts, " | "));
+}
+
+std::string EventDescriber::describe(const EventReport& report) const {
+    switch (report.repetition) {
+        case Repetition::Single: break;
+        case Repetition::Summary:
+            return fmt::format("cycle {}: {} more in the last {} (cycles {}-{}; {} since cycle {}, still going on): {}",
+                               report.event.cycle, report.count, seconds_text(report.span), report.first_cycle,
+                               report.last_cycle, report.total, report.start_cycle, subjects_text(report));
+        case Repetition::End:
+            return fmt::format("cycle {}: ended, none since cycle {}: {} in {} (cycles {}-{}), {} of them since the "
+                               "last report: {}",
+                               report.event.cycle, report.last_cycle, report.total, seconds_text(report.span),
+                               report.start_cycle, report.last_cycle, report.count, subjects_text(report));
+    }
+    return describe(report.event);
+}
+
 std::string EventDescriber::slave(std::size_t index) const {
-    if (!eni_ || index >= eni_->slaves.size()) return fmt::format("slave #{} (not in the ENI)", index + 1);
+    if (!eni_ || index >= eni_->slaves.size()) return fmt::format("#{} (not in the ENI)", index + 1);
     const auto& info = eni_->slaves[index].info;
     return fmt::format("'{}' (position {}, station {})", info.name, info.ring_position + 1, info.phys_addr);
 }
@@ -48,6 +83,8 @@ std::string EventDescriber::slave_at_position(std::uint32_t position) const {
     }
     return fmt::format("position {}", position);
 }
+
+std::size_t EventDescriber::slave_count() const { return eni_ ? eni_->slaves.size() : 0; }
 
 std::string EventDescriber::datagram(const PlannedDatagram& d) const {
     std::string text;
@@ -62,7 +99,9 @@ std::string EventDescriber::datagram(const PlannedDatagram& d) const {
 }
 
 std::string EventDescriber::cyclic_frame(std::uint32_t index, std::uint8_t state) const {
-    if (plan_ == nullptr || index >= plan_->frames.size()) return fmt::format("cyclic frame {}", index + 1);
+    if (plan_ == nullptr || index >= plan_->frames.size()) {
+        return fmt::format("cyclic frame {} ({})", index + 1, state_name(state));
+    }
     std::vector<std::string> parts;
     const auto slave_state = static_cast<eni::SlaveState>(state);
     for (const auto& d : plan_->frames[index].datagrams) {
@@ -75,7 +114,13 @@ std::string EventDescriber::cyclic_frame(std::uint32_t index, std::uint8_t state
                        parts.empty() ? std::string("no datagram") : fmt::format("{}", fmt::join(parts, ", ")));
 }
 
-// Slaves whose FMMU InitCmds map part of the logical range.
+const PlannedDatagram* EventDescriber::cyclic_datagram(std::uint32_t frame, std::uint32_t datagram) const {
+    if (plan_ == nullptr || frame >= plan_->frames.size() || datagram >= plan_->frames[frame].datagrams.size()) {
+        return nullptr;
+    }
+    return &plan_->frames[frame].datagrams[datagram];
+}
+
 std::string EventDescriber::slaves_mapping(std::uint32_t logical, std::size_t length) const {
     if (!eni_) return {};
     std::vector<std::string> names;
@@ -91,32 +136,14 @@ std::string EventDescriber::slaves_mapping(std::uint32_t logical, std::size_t le
     return fmt::format("; the slaves mapping it: {}", fmt::join(names, ", "));
 }
 
-std::string EventDescriber::wkc_error(const Event& e) const {
-    const auto prefix = fmt::format("cycle {}: ", e.cycle);
-    const auto what = fmt::format("WKC {}, expected {}", e.d, e.c);
-    if (plan_ == nullptr || e.a >= plan_->frames.size() || e.b >= plan_->frames[e.a].datagrams.size()) {
-        return prefix + fmt::format("cyclic frame {} datagram {} came back with {}: the cycle's inputs are marked invalid",
-                                    e.a + 1, e.b + 1, what);
-    }
-    const PlannedDatagram& d = plan_->frames[e.a].datagrams[e.b];
+std::string EventDescriber::addressed_station(std::uint16_t station) const {
     std::string who;
-    switch (wire::addressing_of(d.command)) {
-        case wire::Addressing::Logical: who = slaves_mapping(d.address, d.length); break;
-        case wire::Addressing::Broadcast:
-            if (e.d < e.c) who = fmt::format("; {} of the {} slaves did not answer", e.c - e.d, e.c);
-            break;
-        case wire::Addressing::Configured:
-            if (eni_) {
-                for (std::size_t i = 0; i < eni_->slaves.size(); ++i) {
-                    if (eni_->slaves[i].info.phys_addr == adp_of(d.address)) who = "; addressed to " + slave(i);
-                }
-            }
-            break;
-        default: break;
+    if (eni_) {
+        for (std::size_t i = 0; i < eni_->slaves.size(); ++i) {
+            if (eni_->slaves[i].info.phys_addr == station) who = "; addressed to " + slave(i);
+        }
     }
-    return prefix + fmt::format("cyclic frame {} datagram {} ({}) came back with {}{}: the cycle's inputs are marked "
-                                "invalid",
-                                e.a + 1, e.b + 1, datagram(d), what, who);
+    return who;
 }
 
 std::string EventDescriber::acyclic_target(wire::Command command, std::uint32_t address) const {
@@ -139,62 +166,6 @@ std::string EventDescriber::acyclic_target(wire::Command command, std::uint32_t 
         default: break;
     }
     return fmt::format("0x{:08x}", address);
-}
-
-std::string EventDescriber::lost_frame(const Event& e) const {
-    const auto prefix = fmt::format("cycle {}: ", e.cycle);
-    const auto d = LostFrameDetail::decode(e);
-    switch (static_cast<FrameKind>(e.a)) {
-        case FrameKind::Cyclic:
-            return prefix + fmt::format("{} lost ({}): this cycle's inputs keep their last values",
-                                        cyclic_frame(e.b, d.master_state), d.copies_text());
-        case FrameKind::Acyclic: {
-            const std::string more = d.datagrams > 1 ? fmt::format(" and {} more datagram(s)", d.datagrams - 1) : "";
-            return prefix + fmt::format("acyclic frame lost: {} to {}, {} bytes{} ({}): its requests are sent again "
-                                        "until their timeout",
-                                        wire::to_string(d.first_command), acyclic_target(d.first_command, d.first_address),
-                                        d.first_length, more, d.copies_text());
-        }
-        case FrameKind::MasterRed: break;
-    }
-    return master::describe(e);
-}
-
-std::string EventDescriber::describe(const Event& e) const {
-    const auto prefix = fmt::format("cycle {}: ", e.cycle);
-    const std::size_t slave_count = eni_ ? eni_->slaves.size() : 0;
-    switch (e.kind) {
-        case EventKind::CyclicWkcError: return wkc_error(e);
-        case EventKind::FrameLost: return lost_frame(e);
-        case EventKind::LineBreak:
-            if (e.b == 0) break;
-            if (e.a == 0) return prefix + "line break at the MAIN cable: every slave is reached from RED";
-            if (e.a >= slave_count) {
-                return prefix + fmt::format("line break after slave {} {}, at the RED cable: every slave is reached "
-                                            "from MAIN",
-                                            e.a, slave_at_position(e.a));
-            }
-            return prefix + fmt::format("line break after slave {} {}, before {}: slaves 1-{} are reached from MAIN, "
-                                        "{}-{} from RED; every slave stays in the cycle",
-                                        e.a, slave_at_position(e.a), slave_at_position(e.a + 1), e.a, e.a + 1, slave_count);
-        case EventKind::SlavePresence:
-            return prefix + fmt::format("slave {} is {}", slave(e.a),
-                                        e.b != 0 ? "present" : "absent (no answer at its station address)");
-        case EventKind::SlaveStateError:
-            return prefix + fmt::format("slave {} is in {}, AL status code 0x{:04x} ({})", slave(e.a),
-                                        wire::AlStatus{static_cast<std::uint8_t>(e.b)}.to_string(), e.c,
-                                        wire::al_status_code_text(static_cast<std::uint16_t>(e.c)));
-        case EventKind::TransitionFailed:
-            if (e.c == 0xFFFF) break;
-            return prefix + fmt::format("transition {} -> {} failed at slave {}: the master stays in {}",
-                                        state_name(e.a), state_name(e.b), slave(e.c), state_name(e.a));
-        case EventKind::BusMismatch:
-            return prefix + fmt::format("bus mismatch at position {} (configured there: {})", e.a + 1,
-                                        slave_at_position(e.a + 1));
-        case EventKind::CoeEmergency: return prefix + fmt::format("slave {}: {}", slave(e.a), coe_emergency_text(e));
-        default: break;
-    }
-    return master::describe(e);
 }
 
 }  // namespace ecpair::master

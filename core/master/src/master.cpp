@@ -129,7 +129,7 @@ bool Master::use_red() const { return options_.cable_redundancy && red_ != nullp
 
 void Master::set_link_state(LinkRole role, bool up) {
     if (link_up_[static_cast<std::size_t>(role)].exchange(up) != up) {
-        raise(up ? EventKind::LinkUp : EventKind::LinkDown, static_cast<std::uint32_t>(role));
+        raise(up ? events::kLinkUp : events::kLinkDown, static_cast<std::uint32_t>(role));
     }
 }
 
@@ -238,7 +238,7 @@ void Master::accept_copy(LinkRole role, ConstBytes frame) {
     // One event per cycle is enough to say "another master is on this bus".
     if (foreign_reported_cycle_ != cycle_) {
         foreign_reported_cycle_ = cycle_;
-        raise(EventKind::FrameResponseError, static_cast<std::uint32_t>(FrameResponseReason::ForeignSourceMac),
+        raise(events::kFrameResponseError, static_cast<std::uint32_t>(FrameResponseReason::ForeignSourceMac),
               static_cast<std::uint32_t>(role));
     }
 }
@@ -267,7 +267,7 @@ void Master::complete_previous_cycle(link::Clock::time_point now) {
         }
         auto merged = main_copy.path == CopyPath::Missing && red_copy.path == CopyPath::Missing
                           ? Expected<MergeResult, MergeError>(unexpected(MergeError{"lost"}))
-                          : merge_copies(tracker_.sent_bytes(f.id), main_copy, red_copy, merged_);
+                          : merge_copies(main_copy, red_copy, merged_);
         std::optional<wire::ConstFrameView> view;
         if (merged) {
             auto parsed = wire::ConstFrameView::parse(ConstBytes(merged_.data(), merged->size));
@@ -307,7 +307,7 @@ void Master::complete_previous_cycle(link::Clock::time_point now) {
             if (f.kind == FrameKind::Cyclic) all_complete = false;
             if (!lost_reported) {
                 lost_reported = true;
-                Event event{EventKind::FrameLost, cycle_, std::chrono::system_clock::now(),
+                Event event{events::kFrameLost, cycle_, std::chrono::system_clock::now(),
                             static_cast<std::uint32_t>(f.kind), f.index, 0, 0};
                 LostFrameDetail detail = f.detail;
                 detail.main_returned = main_copy.path != CopyPath::Missing;
@@ -340,7 +340,7 @@ void Master::complete_previous_cycle(link::Clock::time_point now) {
     // Deviations that a topology change explains are counted as such, not raised as errors.
     const auto topology = topology_watch_.after_cycle(exchange_, mismatches_, expected_wkcs_pending_.load());
     if (topology.detected_now) {
-        raise(EventKind::TopologyChangeDetected, topology.slaves_before.value_or(kNoCount),
+        raise(events::kTopologyChangeDetected, topology.slaves_before.value_or(kNoCount),
               topology.slaves_now.value_or(kNoCount));
     }
     if (topology.attributed) {
@@ -349,7 +349,7 @@ void Master::complete_previous_cycle(link::Clock::time_point now) {
         stats_.wkc_errors.fetch_add(wkc_errors, std::memory_order_relaxed);
         for (const WkcMismatch& m : mismatches_) {
             const auto& datagrams = exchange_.plan().frames[m.frame].datagrams;
-            raise(EventKind::CyclicWkcError, m.frame, static_cast<std::uint32_t>(m.datagram - datagrams.data()),
+            raise(events::kCyclicWkcError, m.frame, static_cast<std::uint32_t>(m.datagram - datagrams.data()),
                   m.expected, m.received);
         }
     }
@@ -387,7 +387,7 @@ void Master::observe_ring(bool closed, bool broken, std::optional<std::uint16_t>
         // down): the break is raised again, with its place, once a cycle finds it.
         if (reachable && reachable_from_main_.exchange(*reachable) != *reachable) {
             logger("master")->warn("line break located after slave {}", *reachable);
-            raise(EventKind::LineBreak, *reachable, 1);
+            raise(events::kLineBreak, *reachable, 1);
         }
         return;
     }
@@ -397,12 +397,12 @@ void Master::observe_ring(bool closed, bool broken, std::optional<std::uint16_t>
     if (now == RingState::Broken) {
         if (!reachable) reachable_from_main_.store(kReachableUnknown);
         logger("master")->warn("line break{}", reachable ? fmt::format(" after slave {}", *reachable) : std::string());
-        raise(EventKind::LineBreak, reachable.value_or(0), reachable ? 1 : 0);
+        raise(events::kLineBreak, reachable.value_or(0), reachable ? 1 : 0);
     } else {
         reachable_from_main_.store(kReachableUnknown);
         if (previous == RingState::Broken) {
             logger("master")->info("line repaired: ring closed");
-            raise(EventKind::LineRepaired);
+            raise(events::kLineRepaired);
         }
     }
 }
@@ -430,7 +430,7 @@ void Master::apply_requests() {
     if (requested != current) {
         state_.store(requested);
         logger("master")->info("master state {} -> {}", eni::to_string(current), eni::to_string(requested));
-        raise(EventKind::MasterStateChanged, static_cast<std::uint32_t>(current), static_cast<std::uint32_t>(requested));
+        raise(events::kMasterStateChanged, static_cast<std::uint32_t>(current), static_cast<std::uint32_t>(requested));
     }
     const bool sending = sending_requested_.load();
     if (sending != sending_.load()) {

@@ -84,7 +84,7 @@ std::string_view to_string(ServiceErrc code) {
 
 master::Event CoeEmergencyEvent::to_event() const {
     master::Event event;
-    event.kind = master::EventKind::CoeEmergency;
+    event.kind = master::events::kCoeEmergency;
     event.a = slave;
     event.b = emergency.error_code | (static_cast<std::uint32_t>(emergency.error_register) << 16);
     event.c = load_le<std::uint32_t>(emergency.data, 0);

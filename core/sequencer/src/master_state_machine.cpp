@@ -9,6 +9,8 @@
 
 #include "ecpair/common/bytes.hpp"
 #include "ecpair/common/log.hpp"
+#include "ecpair/master/master_events.hpp"
+#include "ecpair/sequencer/dc_start_time.hpp"
 #include "ecpair/sequencer/identification_update.hpp"
 #include "ecpair/sequencer/state_rollback.hpp"
 #include "ecpair/wire/al_status.hpp"
@@ -233,7 +235,7 @@ std::optional<SequenceError> MasterStateMachine::run_transition(eni::Transition 
         log->warn("transition {} stopped after {} ms: {}", transition_name(t), elapsed, error->message);
     } else {
         log->error("transition {} failed after {} ms: {}", transition_name(t), elapsed, error->message);
-        raise(master::EventKind::TransitionFailed, static_cast<std::uint32_t>(eni::from_state(t)),
+        raise(master::events::kTransitionFailed, static_cast<std::uint32_t>(eni::from_state(t)),
               static_cast<std::uint32_t>(eni::to_state(t)),
               error->slave_index ? static_cast<std::uint32_t>(*error->slave_index) : kMasterIndex);
     }
@@ -268,14 +270,14 @@ std::optional<SequenceError> MasterStateMachine::startup_scan(std::stop_token st
         return SequenceError{quiet.value_or(SequenceFailure::ScanFailed), MasterState::Init, MasterState::Preop,
                              std::nullopt, "startup scan: " + outcome.error().message};
     }
-    raise(master::EventKind::BusScanStatus, outcome->report.responding,
+    raise(master::events::kBusScanStatus, outcome->report.responding,
           static_cast<std::uint32_t>(eni_->slaves.size()), outcome->matches ? 1 : 0);
     for (const auto& c : outcome->comparisons) {
         if (c.configured_index) {
             const bool found = c.match != bus::SlaveMatch::Missing && c.match != bus::SlaveMatch::Absent;
-            raise(master::EventKind::SlavePresence, static_cast<std::uint32_t>(*c.configured_index), found ? 1 : 0);
+            raise(master::events::kSlavePresence, static_cast<std::uint32_t>(*c.configured_index), found ? 1 : 0);
         }
-        if (c.is_mismatch()) raise(master::EventKind::BusMismatch, c.position, static_cast<std::uint32_t>(c.match));
+        if (c.is_mismatch()) raise(master::events::kBusMismatch, c.position, static_cast<std::uint32_t>(c.match));
     }
     {
         std::lock_guard lock(mutex_);
@@ -336,7 +338,7 @@ std::optional<SequenceError> MasterStateMachine::recover_identification_update(c
                              fmt::format("transition {}: slave '{}': recovering from 0x0061: {}", eni::to_string(t),
                                          slave.info.name, alias.error())};
     }
-    raise(master::EventKind::SlaveIdentificationUpdated, static_cast<std::uint32_t>(plan.slave_index), *alias);
+    raise(master::events::kSlaveIdentificationUpdated, static_cast<std::uint32_t>(plan.slave_index), *alias);
     const auto& id = slave.info.identification;
     if (id && id->enabled && id->ado == bus::kIdentificationAlias && id->value && *id->value != 0 && *id->value != *alias) {
         return SequenceError{SequenceFailure::BusMismatch, *transition_source(t), *transition_target(t),
@@ -370,7 +372,7 @@ void MasterStateMachine::acknowledge_error(std::size_t slave_index, eni::Transit
     logger("sequencer")->warn("slave '{}' (station {}) is in {} with AL status code 0x{:04x} ({}): acknowledging",
                               slave.info.name, slave.info.phys_addr, al.to_string(), code,
                               wire::al_status_code_text(code));
-    raise(master::EventKind::SlaveStateError, static_cast<std::uint32_t>(slave_index), al.raw, code);
+    raise(master::events::kSlaveStateError, static_cast<std::uint32_t>(slave_index), al.raw, code);
     (void)bus::write_register(bus_, address, wire::reg::kAlControl,
                               {static_cast<std::uint8_t>(al.state() | kErrorAcknowledge), 0});
 }
@@ -409,7 +411,17 @@ CommandContext MasterStateMachine::context_for(std::size_t slave_index) const {
         std::lock_guard lock(mutex_);
         context.position_shift = position_shift_[slave_index];
     }
-    context.dc = dc::start_time_parameters(*eni_, slave_index, presence());
+    if (const auto reference = reference_clock_index(*eni_, presence())) {
+        DcStartTimeParameters dc{bus::SlaveAddress::station(eni_->slaves[*reference].info.phys_addr), 0, 0};
+        if (slave.dc) {
+            dc.cycle_time_ns = slave.dc->cycle_time0_ns.value_or(0);
+            dc.shift_time_ns = slave.dc->shift_time_ns.value_or(0);
+        }
+        if (dc.cycle_time_ns == 0 && !eni_->cyclic.empty() && eni_->cyclic.front().cycle_time_us) {
+            dc.cycle_time_ns = *eni_->cyclic.front().cycle_time_us * 1000u;
+        }
+        context.dc = dc;
+    }
     return context;
 }
 

@@ -2,6 +2,7 @@
 
 #include "ecpair/common/bytes.hpp"
 #include "ecpair/common/log.hpp"
+#include "ecpair/master/master_events.hpp"
 #include "ecpair/wire/al_status.hpp"
 #include "ecpair/wire/esc_registers.hpp"
 
@@ -66,13 +67,15 @@ void SlaveMonitor::poll_once() {
             logger("slaves")->log(entry.present ? spdlog::level::info : spdlog::level::warn,
                                   "slave {} '{}' (station {}) is {}", i, eni_->slaves[i].info.name, station,
                                   entry.present ? "present" : "absent");
-            if (report_presence_) raise(master::EventKind::SlavePresence, static_cast<std::uint32_t>(i), entry.present ? 1 : 0);
+            if (report_presence_) {
+                raise(master::events::kSlavePresence, static_cast<std::uint32_t>(i), entry.present ? 1 : 0);
+            }
         }
         const wire::AlStatus status{entry.al_status};
         if (entry.present && status.error() && !(previous.present && wire::AlStatus{previous.al_status}.error())) {
             logger("slaves")->warn("slave {} '{}' in {}: 0x{:04x} {}", i, eni_->slaves[i].info.name, status.to_string(),
                                    entry.al_status_code, wire::al_status_code_text(entry.al_status_code));
-            raise(master::EventKind::SlaveStateError, static_cast<std::uint32_t>(i), entry.al_status,
+            raise(master::events::kSlaveStateError, static_cast<std::uint32_t>(i), entry.al_status,
                   entry.al_status_code);
         }
     }

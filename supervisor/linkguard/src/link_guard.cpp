@@ -25,6 +25,7 @@
 
 #include "ecpair/common/log.hpp"
 #include "ecpair/common/realtime.hpp"
+#include "ecpair/linkguard/link_guard_events.hpp"
 
 extern char** environ;
 
@@ -170,7 +171,7 @@ Expected<void, std::string> LinkGuard::bring_links_up_at_start() {
                                           errno_text(answer->error)));
         }
         ++links_brought_up_;
-        raise(master::EventKind::LinkGuardLinksUp, 0, answer->links, 0, 0);
+        raise(events::kLinkGuardLinksUp, 0, answer->links, 0, 0);
         log()->info("link guard {}: running (pid {}), links up, down after {} ms without a heartbeat or when ecpaird ends",
                     options_.name, pid_, options_.hang_timeout.count());
         return {};
@@ -216,7 +217,7 @@ void LinkGuard::handle(const GuardMessage& report) {
             links_down_ = true;
             ++links_taken_down_;
             last_down_ = down;
-            raise(master::EventKind::LinkGuardLinksDown, static_cast<std::uint32_t>(report.reason), report.links,
+            raise(events::kLinkGuardLinksDown, static_cast<std::uint32_t>(report.reason), report.links,
                   report.silence_ms, static_cast<std::uint32_t>(report.error));
             log()->warn("link guard {}: the guard took {} down ({} ms without a heartbeat, last cycle {}); they stay "
                         "down until this master may drive them",
@@ -225,12 +226,12 @@ void LinkGuard::handle(const GuardMessage& report) {
             return;
         }
         case GuardMessageKind::HeartbeatResumed:
-            raise(master::EventKind::LinkGuardResumed, 0, 0, report.silence_ms, 0);
+            raise(events::kLinkGuardResumed, 0, 0, report.silence_ms, 0);
             return;
         case GuardMessageKind::LinksAreUp:
             links_down_ = report.error != 0 && links_down_;
             ++links_brought_up_;
-            raise(master::EventKind::LinkGuardLinksUp, 1, report.links, report.silence_ms,
+            raise(events::kLinkGuardLinksUp, 1, report.links, report.silence_ms,
                   static_cast<std::uint32_t>(report.error));
             log()->info("link guard {}: {} up again after {} ms down{}", options_.name, links_text(report.links),
                         report.silence_ms,
@@ -252,7 +253,7 @@ void LinkGuard::bring_links_up() {
 void LinkGuard::guard_gone() {
     running_ = false;
     const int status = reap(std::chrono::milliseconds(500));
-    raise(master::EventKind::LinkGuardGone, static_cast<std::uint32_t>(status), 0, 0, 0);
+    raise(events::kLinkGuardGone, static_cast<std::uint32_t>(status), 0, 0, 0);
     log()->error("link guard {}: the guard process ended (status {}): MAIN and RED are no longer guarded", options_.name,
                  status);
 }

@@ -2,10 +2,9 @@
 
 namespace ecpair::supervisor {
 
-std::optional<master::HandOffRefusal> handoff_refusal(const std::optional<redundancy::CmfStandbyStatus>& partner,
-                                                      std::optional<std::chrono::nanoseconds> answer_age,
-                                                      std::chrono::nanoseconds partner_silence) {
-    using master::HandOffRefusal;
+std::optional<HandOffRefusal> handoff_refusal(const std::optional<redundancy::CmfStandbyStatus>& partner,
+                                              std::optional<std::chrono::nanoseconds> answer_age,
+                                              std::chrono::nanoseconds partner_silence) {
     if (!partner || !answer_age || *answer_age > partner_silence) return HandOffRefusal::PartnerNotAnswering;
     if (partner->partner_differs) return HandOffRefusal::PartnerDiffers;
     if (partner->forced) return HandOffRefusal::PartnerForced;

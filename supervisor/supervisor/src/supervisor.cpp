@@ -11,10 +11,13 @@
 
 #include <fmt/format.h>
 
+#include "ecpair/arbitration/arbitration_events.hpp"
 #include "ecpair/common/log.hpp"
 
 namespace ecpair::supervisor {
 namespace {
+
+using arbitration::ArbitrationOutcome;
 
 std::shared_ptr<spdlog::logger> log() { return logger("supervisor"); }
 
@@ -31,25 +34,6 @@ std::uint64_t as_number(const wire::MacAddress& mac) {
 }
 
 bool is_active_state(SupervisorState s) { return s == SupervisorState::Active || s == SupervisorState::HandingOver; }
-
-master::BackoffCode backoff_code(arbitration::BackoffKind kind) {
-    switch (kind) {
-        case arbitration::BackoffKind::Random: return master::BackoffCode::Random;
-        case arbitration::BackoffKind::Preferred: return master::BackoffCode::Preferred;
-        case arbitration::BackoffKind::Deferring: return master::BackoffCode::Deferring;
-    }
-    return master::BackoffCode::Random;
-}
-
-master::RuleCode rule_code(arbitration::DecidedBy by) {
-    switch (by) {
-        case arbitration::DecidedBy::SlavesReached: return master::RuleCode::SlavesReached;
-        case arbitration::DecidedBy::Epoch: return master::RuleCode::Epoch;
-        case arbitration::DecidedBy::Mac: return master::RuleCode::Mac;
-        case arbitration::DecidedBy::Nothing: return master::RuleCode::None;
-    }
-    return master::RuleCode::None;
-}
 
 template <class Enum>
 std::uint32_t code(Enum e) {
@@ -111,7 +95,7 @@ Expected<void, std::string> Supervisor::switchover() {
         return unexpected(std::string("this member is forced to standby: release it first (unforce-standby)"));
     }
     if (s.state == SupervisorState::HandingOver || s.state == SupervisorState::HandOffPending) {
-        return unexpected(std::string(master::to_string(master::HandOffRefusal::AlreadyRunning)));
+        return unexpected(std::string(to_string(HandOffRefusal::AlreadyRunning)));
     }
     if (s.role == RedState::Inactive && s.state != SupervisorState::Standby) {
         return unexpected(fmt::format("this member is INACTIVE ({}) and follows no ACTIVE partner it could take over from",
@@ -122,7 +106,7 @@ Expected<void, std::string> Supervisor::switchover() {
             "this member is no hot standby (it does not mirror an ACTIVE partner with the same ENI and parameters)"));
     }
     if (s.role == RedState::Active && s.handoff_refusal) {
-        return unexpected(fmt::format("switchover refused: {}", master::to_string(*s.handoff_refusal)));
+        return unexpected(fmt::format("switchover refused: {}", to_string(*s.handoff_refusal)));
     }
     switchover_request_.store(true);
     return {};
@@ -207,8 +191,8 @@ redundancy::RoleDecision Supervisor::decide(const Observation& seen) {
         headers_seen_ = seen.headers_heard;
         if (options_.start_in_forced_standby) {
             forced_ = true;
-            raise(master::EventKind::StandbyForced, 1);
-            no_active_ = master::NoActiveReason::ForcedStandby;
+            raise(events::kStandbyForced, 1);
+            no_active_ = NoActiveReason::ForcedStandby;
             transition(SupervisorState::NoActive, "started in forced standby (start_in_forced_standby)");
         } else if (options_.start_active) {
             take_bus(seen, "configured to start ACTIVE");
@@ -221,13 +205,13 @@ redundancy::RoleDecision Supervisor::decide(const Observation& seen) {
     // Operator commands.
     if (const int f = force_request_.exchange(-1); f >= 0 && (f == 1) != forced_) {
         forced_ = f == 1;
-        raise(master::EventKind::StandbyForced, forced_ ? 1 : 0);
+        raise(events::kStandbyForced, forced_ ? 1 : 0);
         if (forced_ && is_active_state(state_)) {
             switchover_request_.store(true);  // hand the bus over if the partner can take it
         } else if (forced_ && (state_ == SupervisorState::Listening || state_ == SupervisorState::BackingOff)) {
-            no_active_ = master::NoActiveReason::ForcedStandby;
+            no_active_ = NoActiveReason::ForcedStandby;
             transition(SupervisorState::NoActive, "forced to standby while no ACTIVE master is heard");
-            raise(master::EventKind::NoActiveMaster, code(master::NoActiveReason::ForcedStandby));
+            raise(events::kNoActiveMaster, code(NoActiveReason::ForcedStandby));
         }
     }
     if (const int r = role_request_.exchange(-1); r >= 0) {
@@ -297,14 +281,14 @@ void Supervisor::watch_links(const Observation& seen) {
     if ((was_up[0] && !links_up_[0]) || (was_up[1] && !links_up_[1])) comm_.link_lost(seen.now);
     if (links_up_[0] || links_up_[1] || state_ == SupervisorState::Isolated) return;
     if (is_active_state(state_)) {
-        raise(master::EventKind::AllLinksLost, 1);
+        raise(events::kAllLinksLost, 1);
         step_down(SupervisorState::Isolated, "all links lost: ACTIVE becomes INACTIVE");
     } else {
-        raise(master::EventKind::AllLinksLost, 0);
+        raise(events::kAllLinksLost, 0);
         pending_handoff_.reset();
         transition(SupervisorState::Isolated, "all links lost: isolated, will not take over");
     }
-    no_active_ = master::NoActiveReason::Isolated;
+    no_active_ = NoActiveReason::Isolated;
 }
 
 // ---- INACTIVE states
@@ -314,20 +298,20 @@ void Supervisor::on_listening(const Observation& seen) {
     switch (arbiter_.step(seen.now, heard)) {
         case arbitration::Verdict::Wait: return;
         case arbitration::Verdict::Yield:
-            raise(master::EventKind::ArbitrationSettled, code(master::ArbitrationOutcome::YieldedToActive), epoch_,
+            raise(arbitration::events::kArbitrationSettled, code(ArbitrationOutcome::YieldedToActive), epoch_,
                   seen.slaves_reached.value_or(0), seen.heard ? seen.heard->sender.slaves_reached : 0xFFFF);
             comm_.reset(seen.now);
             transition(SupervisorState::Standby, "an ACTIVE master is heard: standing by");
             return;
         case arbitration::Verdict::TakeBus:
             if (!may_take_bus(seen)) {
-                no_active_ = master::NoActiveReason::ForcedStandby;
+                no_active_ = NoActiveReason::ForcedStandby;
                 transition(SupervisorState::NoActive, "no ACTIVE master heard, and this member may not take the bus");
-                raise(master::EventKind::NoActiveMaster, code(*no_active_));
+                raise(events::kNoActiveMaster, code(*no_active_));
                 return;
             }
             take_bus(seen, "no ACTIVE master heard while listening: taking the bus");
-            raise(master::EventKind::ArbitrationSettled, code(master::ArbitrationOutcome::TookBusAfterListening),
+            raise(arbitration::events::kArbitrationSettled, code(ArbitrationOutcome::TookBusAfterListening),
                   epoch_);
             return;
     }
@@ -357,35 +341,35 @@ void Supervisor::on_standby(const Observation& seen) {
 
 void Supervisor::partner_silent(const Observation& seen) {
     const bool differs = seen.heard && !seen.heard->same_fingerprint;
-    master::SilenceAction action;
+    SilenceAction action;
     if (forced_) {
-        action = master::SilenceAction::RefusedForced;
+        action = SilenceAction::RefusedForced;
     } else if (differs && !options_.takeover_from_differing_partner) {
-        action = master::SilenceAction::RefusedPartnerDiffers;
+        action = SilenceAction::RefusedPartnerDiffers;
     } else {
-        action = seen.mirror_fresh ? master::SilenceAction::TakingOverHot : master::SilenceAction::TakingOverCold;
+        action = seen.mirror_fresh ? SilenceAction::TakingOverHot : SilenceAction::TakingOverCold;
     }
     ++counters_.comm_timeouts;
-    raise(master::EventKind::CommTimeout, ms(comm_.silence()), ms(comm_.timeout()), code(action),
+    raise(events::kCommTimeout, ms(comm_.silence()), ms(comm_.timeout()), code(action),
           comm_.shortened() ? 1 : 0);
     const auto silence = fmt::format("partner silent for {} ms (comm timeout {} ms{})", ms(comm_.silence()),
                                      ms(comm_.timeout()), comm_.shortened() ? ", shortened by a link loss" : "");
     pending_handoff_.reset();
     switch (action) {
-        case master::SilenceAction::TakingOverHot:
-        case master::SilenceAction::TakingOverCold:
+        case SilenceAction::TakingOverHot:
+        case SilenceAction::TakingOverCold:
             takeover_cycle_ = seen.cycle;
-            take_bus(seen, silence + (action == master::SilenceAction::TakingOverHot ? ": taking over hot"
+            take_bus(seen, silence + (action == SilenceAction::TakingOverHot ? ": taking over hot"
                                                                                      : ": taking over cold"));
             return;
-        case master::SilenceAction::RefusedForced:
-            no_active_ = master::NoActiveReason::ForcedStandby;
+        case SilenceAction::RefusedForced:
+            no_active_ = NoActiveReason::ForcedStandby;
             break;
         default:
-            no_active_ = master::NoActiveReason::PartnerDiffers;
+            no_active_ = NoActiveReason::PartnerDiffers;
             break;
     }
-    raise(master::EventKind::NoActiveMaster, code(*no_active_));
+    raise(events::kNoActiveMaster, code(*no_active_));
     transition(SupervisorState::NoActive, silence + ": not taking over");
 }
 
@@ -393,8 +377,8 @@ void Supervisor::on_handoff_pending(const Observation& seen) {
     if (seen.cmfs_completed != cmfs_seen_) comm_.heard(seen.now);
     const auto h = *pending_handoff_;
     if (forced_) {
-        raise(master::EventKind::HandOff, code(master::HandOffPhase::Cancelled), static_cast<std::uint32_t>(h),
-              code(master::HandOffRefusal::ForcedStandby));
+        raise(events::kHandOff, code(HandOffPhase::Cancelled), static_cast<std::uint32_t>(h),
+              code(HandOffRefusal::ForcedStandby));
         ++counters_.handoffs_cancelled;
         pending_handoff_.reset();
         transition(SupervisorState::Standby,
@@ -409,8 +393,8 @@ void Supervisor::on_handoff_pending(const Observation& seen) {
     // Only an uncommitted hand-off can be withdrawn: once committed, a header
     // without the announcement is an older CMF that arrived late.
     if (!handoff_committed_ && seen.heard && seen.heard->same_fingerprint && !announces_h) {
-        raise(master::EventKind::HandOff, code(master::HandOffPhase::Cancelled), static_cast<std::uint32_t>(h),
-              code(master::HandOffRefusal::NotAcknowledged));
+        raise(events::kHandOff, code(HandOffPhase::Cancelled), static_cast<std::uint32_t>(h),
+              code(HandOffRefusal::NotAcknowledged));
         ++counters_.handoffs_cancelled;
         pending_handoff_.reset();
         transition(SupervisorState::Standby, fmt::format("the ACTIVE withdrew the hand-off at cycle {}", h));
@@ -426,7 +410,7 @@ void Supervisor::on_handoff_pending(const Observation& seen) {
     // got and still hold the bus, so silence is no reason to take it; the
     // comm timeout decides.
     if (seen.cycle >= h && handoff_committed_ && seen.mirrored_cycle + 2 >= h) {
-        raise(master::EventKind::HandOff, code(master::HandOffPhase::TakenOver), static_cast<std::uint32_t>(h));
+        raise(events::kHandOff, code(HandOffPhase::TakenOver), static_cast<std::uint32_t>(h));
         ++counters_.handoffs;
         if (seen.cycle > h) first_cycle_ = h;  // read "committed" only after our boundary H
         take_bus(seen, fmt::format("switchover: taking over at cycle {} as announced{}{}", h,
@@ -445,7 +429,7 @@ void Supervisor::on_no_active(const Observation& seen) {
         transition(SupervisorState::Standby, "an ACTIVE master is heard: standing by");
         return;
     }
-    if (!forced_ && no_active_ == master::NoActiveReason::ForcedStandby) {
+    if (!forced_ && no_active_ == NoActiveReason::ForcedStandby) {
         no_active_.reset();
         arbiter_.start(seen.now);
         transition(SupervisorState::Listening, "released from forced standby: listening before taking the bus");
@@ -454,10 +438,10 @@ void Supervisor::on_no_active(const Observation& seen) {
 
 void Supervisor::on_isolated(const Observation& seen) {
     if (!seen.main_link_up && !seen.red_link_up) return;
-    raise(master::EventKind::LinksRestored);
+    raise(events::kLinksRestored);
     no_active_.reset();
     if (forced_) {
-        no_active_ = master::NoActiveReason::ForcedStandby;
+        no_active_ = NoActiveReason::ForcedStandby;
         transition(SupervisorState::NoActive, "a link is back; forced to standby");
         return;
     }
@@ -473,7 +457,7 @@ void Supervisor::watch_partner(const Observation& seen) {
             const auto silent_for = seen.partner_last_answer && partner_lost_at_
                                         ? ms(*seen.partner_last_answer - *partner_lost_at_)
                                         : 0;
-            raise(master::EventKind::PartnerFound, silent_for);
+            raise(events::kPartnerFound, silent_for);
             log()->info("cycle {}: partner {} answers in the CMF", cycle_,
                         seen.partner_status ? seen.partner_status->member.to_string() : std::string("?"));
         }
@@ -484,7 +468,7 @@ void Supervisor::watch_partner(const Observation& seen) {
         partner_seen_ = false;
         partner_lost_at_ = *seen.partner_last_answer;
         ++counters_.partner_lost;
-        raise(master::EventKind::PartnerLost, ms(seen.now - *seen.partner_last_answer));
+        raise(events::kPartnerLost, ms(seen.now - *seen.partner_last_answer));
     }
 }
 
@@ -492,11 +476,11 @@ void Supervisor::watch_returns(const Observation& seen) {
     if (!returns_reported_ && seen.cycles_without_return >= options_.no_return_cycles) {
         returns_reported_ = true;
         const bool after_failover = takeover_cycle_ != 0 && seen.cycle - takeover_cycle_ < 10 * seen.cycles_without_return;
-        raise(master::EventKind::FramesNotReturning, static_cast<std::uint32_t>(seen.cycles_without_return),
+        raise(events::kFramesNotReturning, static_cast<std::uint32_t>(seen.cycles_without_return),
               after_failover ? 1 : 0);
     } else if (returns_reported_ && seen.cycles_without_return == 0) {
         returns_reported_ = false;
-        raise(master::EventKind::FramesReturning, static_cast<std::uint32_t>(seen.cycle - takeover_cycle_));
+        raise(events::kFramesReturning, static_cast<std::uint32_t>(seen.cycle - takeover_cycle_));
     }
 }
 
@@ -537,7 +521,7 @@ bool Supervisor::previous_active_finishing(const Observation& seen) {
     return true;
 }
 
-std::optional<master::HandOffRefusal> Supervisor::refusal(const Observation& seen) const {
+std::optional<HandOffRefusal> Supervisor::refusal(const Observation& seen) const {
     std::optional<std::chrono::nanoseconds> age;
     if (seen.partner_last_answer) age = seen.now - *seen.partner_last_answer;
     return handoff_refusal(seen.partner_status, age, options_.partner_silence);
@@ -545,12 +529,12 @@ std::optional<master::HandOffRefusal> Supervisor::refusal(const Observation& see
 
 void Supervisor::start_handoff(const Observation& seen) {
     if (const auto refused = refusal(seen)) {
-        raise(master::EventKind::HandOff, code(master::HandOffPhase::Refused), 0, code(*refused));
-        if (forced_) step_down_forced(master::to_string(*refused));
+        raise(events::kHandOff, code(HandOffPhase::Refused), 0, code(*refused));
+        if (forced_) step_down_forced(to_string(*refused));
         return;
     }
     announcement_.emplace(seen.cycle + options_.handoff_lead_cycles);
-    raise(master::EventKind::HandOff, code(master::HandOffPhase::Announced),
+    raise(events::kHandOff, code(HandOffPhase::Announced),
           static_cast<std::uint32_t>(announcement_->cycle()));
     transition(SupervisorState::HandingOver,
                fmt::format("switchover: handing the bus to the partner at cycle {}", announcement_->cycle()));
@@ -562,9 +546,9 @@ void Supervisor::on_active(const Observation& seen) {
     if (collision_seen(seen)) {
         const auto& round = arbiter_.collision(seen.now, ours(seen), theirs(seen));
         ++counters_.collisions;
-        raise(master::EventKind::Collision, round.number,
+        raise(arbitration::events::kCollision, round.number,
               static_cast<std::uint32_t>(std::chrono::duration_cast<std::chrono::microseconds>(round.backoff).count()),
-              code(backoff_code(round.kind)), code(rule_code(round.decided_by)));
+              code(round.kind), code(round.decided_by));
         step_down(SupervisorState::BackingOff,
                   fmt::format("collision with another master (round {}): stopped sending, backing off", round.number));
         return;
@@ -580,8 +564,8 @@ void Supervisor::on_handing_over(const Observation& seen) {
     // Committed is irrevocable (the partner may take over at H on the strength
     // of it): a partner lost now, or a stall of ours, still ends in the step-down.
     if (!partner_seen_ && !announcement_->committed()) {
-        raise(master::EventKind::HandOff, code(master::HandOffPhase::Cancelled),
-              static_cast<std::uint32_t>(announcement_->cycle()), code(master::HandOffRefusal::PartnerLost));
+        raise(events::kHandOff, code(HandOffPhase::Cancelled),
+              static_cast<std::uint32_t>(announcement_->cycle()), code(HandOffRefusal::PartnerLost));
         ++counters_.handoffs_cancelled;
         announcement_.reset();
         transition(SupervisorState::Active, "switchover cancelled: the partner went silent");
@@ -591,12 +575,12 @@ void Supervisor::on_handing_over(const Observation& seen) {
     switch (announcement_->step(seen.cycle, seen.partner_status)) {
         case HandOffAnnouncement::Step::Announce: return;
         case HandOffAnnouncement::Step::Acknowledged:
-            raise(master::EventKind::HandOff, code(master::HandOffPhase::Acknowledged),
+            raise(events::kHandOff, code(HandOffPhase::Acknowledged),
                   static_cast<std::uint32_t>(announcement_->cycle()));
             return;
         case HandOffAnnouncement::Step::StepDown: {
             const auto h = announcement_->cycle();
-            raise(master::EventKind::HandOff, code(master::HandOffPhase::SteppedDown), static_cast<std::uint32_t>(h));
+            raise(events::kHandOff, code(HandOffPhase::SteppedDown), static_cast<std::uint32_t>(h));
             ++counters_.handoffs;
             comm_.reset(seen.now);
             step_down(SupervisorState::Standby,
@@ -605,8 +589,8 @@ void Supervisor::on_handing_over(const Observation& seen) {
             return;
         }
         case HandOffAnnouncement::Step::Cancel:
-            raise(master::EventKind::HandOff, code(master::HandOffPhase::Cancelled),
-                  static_cast<std::uint32_t>(announcement_->cycle()), code(master::HandOffRefusal::NotAcknowledged));
+            raise(events::kHandOff, code(HandOffPhase::Cancelled),
+                  static_cast<std::uint32_t>(announcement_->cycle()), code(HandOffRefusal::NotAcknowledged));
             ++counters_.handoffs_cancelled;
             announcement_.reset();
             transition(SupervisorState::Active, "switchover cancelled: the partner did not acknowledge in time");
@@ -616,11 +600,11 @@ void Supervisor::on_handing_over(const Observation& seen) {
 }
 
 void Supervisor::step_down_forced(std::string_view why) {
-    no_active_ = master::NoActiveReason::ForcedStandby;
+    no_active_ = NoActiveReason::ForcedStandby;
     step_down(SupervisorState::NoActive, fmt::format("forced to standby, and no hot standby can take the bus ({}): "
                                                      "stepping down",
                                                      why));
-    raise(master::EventKind::NoActiveMaster, code(*no_active_));
+    raise(events::kNoActiveMaster, code(*no_active_));
 }
 
 void Supervisor::on_backing_off(const Observation& seen) {
@@ -628,7 +612,7 @@ void Supervisor::on_backing_off(const Observation& seen) {
         case arbitration::Verdict::Wait: return;
         case arbitration::Verdict::Yield:
             ++counters_.backoffs_lost;
-            raise(master::EventKind::ArbitrationSettled, code(master::ArbitrationOutcome::YieldedToActive), epoch_,
+            raise(arbitration::events::kArbitrationSettled, code(ArbitrationOutcome::YieldedToActive), epoch_,
                   seen.slaves_reached.value_or(0), seen.heard ? seen.heard->sender.slaves_reached : 0xFFFF);
             comm_.reset(seen.now);
             transition(SupervisorState::Standby, "after the collision the other master holds the bus: standing by");
@@ -637,7 +621,7 @@ void Supervisor::on_backing_off(const Observation& seen) {
             ++counters_.backoffs_won;
             const auto other = theirs(seen);
             take_bus(seen, "backoff over and no ACTIVE master heard: taking the bus back");
-            raise(master::EventKind::ArbitrationSettled, code(master::ArbitrationOutcome::KeptBusAfterCollision), epoch_,
+            raise(arbitration::events::kArbitrationSettled, code(ArbitrationOutcome::KeptBusAfterCollision), epoch_,
                   seen.slaves_reached.value_or(0), other ? other->slaves_reached : 0xFFFF);
             return;
         }

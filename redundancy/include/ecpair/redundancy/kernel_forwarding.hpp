@@ -81,8 +81,9 @@ public:
     void set_link_state(master::LinkRole role, bool up);
     // What the program writes into the MASTER_PD_IN and STANDBY_STATUS
     // sections of every CMF on its first pass (master_pd_in is cut to the
-    // size given to open()).
-    void set_answer(ConstBytes master_pd_in, ConstBytes standby_status);
+    // size given to open()). Fails with the errno of the map update (the
+    // program keeps the answer it had).
+    Expected<void, int> set_answer(ConstBytes master_pd_in, ConstBytes standby_status);
 
     // PreparedPollAnswers: the program's slots (ECPAIR_KFWD_BRIDGE_SLOTS).
     std::size_t slots() const override;

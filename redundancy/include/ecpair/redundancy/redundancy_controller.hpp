@@ -169,7 +169,7 @@ private:
     void apply_mirror(master::ProcessImage& image);
     bool mirror_fresh() const;
     void read_partner_answer(ConstBytes frame);
-    void raise(master::EventKind kind, std::uint32_t a = 0, std::uint32_t b = 0);
+    void raise(master::EventKind kind, std::uint32_t a = 0, std::uint32_t b = 0, std::uint32_t c = 0);
     PairObservation observe() const;
     void apply(const RoleDecision& decision, master::ProcessImage& image);
     void publish_status();

@@ -16,7 +16,7 @@
 
 #include "ecpair/bus/bus_access.hpp"
 #include "ecpair/eni/model.hpp"
-#include "ecpair/master/events.hpp"
+#include "ecpair/master/event_queue.hpp"
 #include "ecpair/master/slave_state_image.hpp"
 
 namespace ecpair::redundancy {

@@ -27,7 +27,7 @@
 
 #include "ecpair/bus/bus_access.hpp"
 #include "ecpair/eni/model.hpp"
-#include "ecpair/master/events.hpp"
+#include "ecpair/master/event.hpp"
 #include "ecpair/sequencer/clock.hpp"
 #include "ecpair/sequencer/init_cmd_runner.hpp"
 #include "ecpair/sequencer/mailbox_init_cmd_runner.hpp"

@@ -49,12 +49,13 @@
 #include "ecpair/common/expected.hpp"
 #include "ecpair/eni/hot_connect_groups.hpp"
 #include "ecpair/eni/model.hpp"
+#include "ecpair/hotconnect/hot_connect_events.hpp"
 #include "ecpair/hotconnect/hot_connect_host.hpp"
 #include "ecpair/hotconnect/hot_connect_view.hpp"
 #include "ecpair/hotconnect/port_control.hpp"
 #include "ecpair/hotconnect/topology_change.hpp"
 #include "ecpair/hotconnect/wkc_contributions.hpp"
-#include "ecpair/master/events.hpp"
+#include "ecpair/master/event_queue.hpp"
 #include "ecpair/sequencer/clock.hpp"
 #include "ecpair/sequencer/startup_scan.hpp"
 #include "ecpair/sequencer/transition_plan.hpp"
@@ -84,7 +85,7 @@ struct HotConnectStatus {
     std::vector<GroupView> groups;
     std::vector<MismatchView> mismatches;
     std::vector<PortRef> blocked;
-    std::optional<master::TopologyResult> last_result;
+    std::optional<TopologyResult> last_result;
     std::uint64_t changes = 0;
     std::uint16_t slaves_on_bus = 0;
 };
@@ -141,7 +142,7 @@ private:
     std::optional<std::uint16_t> settle(std::stop_token stop);
     void bring_up_pending(sequencer::MasterState target, bool reset_first, std::stop_token stop);
     void close_borders();
-    void finish(master::TopologyResult result);
+    void finish(TopologyResult result);
 
     void apply_match(const bus::ScanReport& report, const bus::TopologyMatch& match, bool report_events);
     void publish_expected_wkcs();
@@ -179,7 +180,7 @@ private:
     bool active_ = true;
     sequencer::MasterState master_state_ = sequencer::MasterState::Init;
     ChangeState state_ = ChangeState::Idle;
-    std::optional<master::TopologyResult> last_result_;
+    std::optional<TopologyResult> last_result_;
     std::uint64_t changes_ = 0;
     std::vector<MismatchView> mismatches_;
     std::vector<PortRef> blocked_;
@@ -198,7 +199,7 @@ private:
     std::optional<bus::TopologyMatch> last_match_;
     bool groups_added_ = false;
     bool groups_removed_ = false;
-    master::TopologyResult change_result_ = master::TopologyResult::Ok;
+    TopologyResult change_result_ = TopologyResult::Ok;
     std::uint64_t deviations_at_start_ = 0;
     sequencer::Clock::time_point change_started_{};
     std::vector<std::optional<std::uint16_t>> followed_;  // INACTIVE: the expected WKCs last published

@@ -29,7 +29,7 @@
 // again to the new ACTIVE (design.md §4, REQ042).
 //
 // CoE emergencies (during a transfer, or found by the poll of idle
-// mailboxes every emergency_poll) are raised as EventKind::CoeEmergency.
+// mailboxes every emergency_poll) are raised as coe-emergency events (master::events::kCoeEmergency).
 //
 // Threads: every public function from any thread but the cycle thread's
 // (submitting allocates); completions run on a worker (keep them short).
@@ -54,7 +54,8 @@
 #include "ecpair/bus/bus_access.hpp"
 #include "ecpair/common/expected.hpp"
 #include "ecpair/eni/model.hpp"
-#include "ecpair/master/events.hpp"
+#include "ecpair/master/event_queue.hpp"
+#include "ecpair/master/master_events.hpp"
 #include "ecpair/sequencer/clock.hpp"
 #include "ecpair/sequencer/slave_mailboxes.hpp"
 #include "ecpair/wire/coe.hpp"
@@ -214,7 +215,7 @@ struct SiiWrite {
 struct MailboxServiceHooks {
     // Whether the slave (ENI index) is on the bus now; null: all are.
     std::function<bool(std::size_t slave)> present;
-    // CoE emergencies go here as EventKind::CoeEmergency (null: logged).
+    // CoE emergencies go here as coe-emergency events (null: logged).
     master::EventQueue* events = nullptr;
 };
 
@@ -228,7 +229,7 @@ struct MailboxServiceOptions {
     bool allow_sii_write = false;
 };
 
-// EventKind::CoeEmergency's numbers: a = slave index, b = error code | error
+// A coe-emergency event's numbers: a = slave index, b = error code | error
 // register << 16, c = data bytes 0-3 (little-endian), d = data byte 4.
 struct CoeEmergencyEvent {
     std::uint32_t slave = 0;

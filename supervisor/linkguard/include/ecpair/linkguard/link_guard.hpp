@@ -37,7 +37,7 @@
 
 #include "ecpair/common/expected.hpp"
 #include "ecpair/linkguard/guard_protocol.hpp"
-#include "ecpair/master/events.hpp"
+#include "ecpair/master/event_queue.hpp"
 
 namespace ecpair::linkguard {
 

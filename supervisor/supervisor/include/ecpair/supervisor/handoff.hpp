@@ -22,16 +22,16 @@
 #include <cstdint>
 #include <optional>
 
-#include "ecpair/master/events.hpp"
+#include "ecpair/supervisor/supervisor_events.hpp"
 #include "ecpair/redundancy/cmf_format.hpp"
 
 namespace ecpair::supervisor {
 
 // Why a switchover cannot start now (nullopt: it can), from the partner's
 // newest standby status and how old it is.
-std::optional<master::HandOffRefusal> handoff_refusal(const std::optional<redundancy::CmfStandbyStatus>& partner,
-                                                      std::optional<std::chrono::nanoseconds> answer_age,
-                                                      std::chrono::nanoseconds partner_silence);
+std::optional<HandOffRefusal> handoff_refusal(const std::optional<redundancy::CmfStandbyStatus>& partner,
+                                              std::optional<std::chrono::nanoseconds> answer_age,
+                                              std::chrono::nanoseconds partner_silence);
 
 class HandOffAnnouncement {
 public:

@@ -49,10 +49,11 @@
 
 #include "ecpair/arbitration/arbiter.hpp"
 #include "ecpair/common/expected.hpp"
-#include "ecpair/master/events.hpp"
+#include "ecpair/master/event_queue.hpp"
 #include "ecpair/redundancy/role_decider.hpp"
 #include "ecpair/supervisor/comm_timeout.hpp"
 #include "ecpair/supervisor/handoff.hpp"
+#include "ecpair/supervisor/supervisor_events.hpp"
 
 namespace ecpair::supervisor {
 
@@ -115,8 +116,8 @@ struct SupervisorStatus {
     std::chrono::nanoseconds silence{0};  // INACTIVE: counted towards the comm timeout
     std::chrono::nanoseconds longest_silence{0};  // the longest silence counted standing by, since start
     std::optional<std::uint64_t> handoff_cycle;
-    std::optional<master::NoActiveReason> no_active;  // set while no member can be ACTIVE as far as we know
-    std::optional<master::HandOffRefusal> handoff_refusal;  // ACTIVE: why a switchover could not start now
+    std::optional<NoActiveReason> no_active;  // set while no member can be ACTIVE as far as we know
+    std::optional<HandOffRefusal> handoff_refusal;  // ACTIVE: why a switchover could not start now
     SupervisorCounters counters;
 };
 
@@ -165,7 +166,7 @@ private:
     bool collision_seen(const Observation& seen);
     bool previous_active_finishing(const Observation& seen);
     void partner_silent(const Observation& seen);
-    std::optional<master::HandOffRefusal> refusal(const Observation& seen) const;
+    std::optional<HandOffRefusal> refusal(const Observation& seen) const;
     void start_handoff(const Observation& seen);
     bool heard_new_active(const Observation& seen) const;
     bool may_take_bus(const Observation& seen) const;
@@ -212,7 +213,7 @@ private:
     std::uint64_t switchover_until_ = 0;
     bool partner_asked_ = false;  // ACTIVE: the partner's last standby status asked for a switchover
     std::optional<SteadyTime> partner_lost_at_;  // the partner's last answer when it was called lost
-    std::optional<master::NoActiveReason> no_active_;
+    std::optional<NoActiveReason> no_active_;
     SupervisorCounters counters_;
 
     // Operator requests (any thread -> cycle thread).
