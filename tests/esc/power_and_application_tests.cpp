@@ -120,3 +120,37 @@ TEST_CASE("a power cycle restarts the counter") {
     REQUIRE(bring_drive_to(line, kFirstStation, 0x04) == 0x04);
     CHECK(counter_of(lrw(line, {})) == fresh_counter);
 }
+
+TEST_CASE("inputs on a single-buffered (mailbox-mode, 0x22) SyncManager are marked full for every LRD, "
+          "outputs on one are taken and emptied for every LWR") {
+    // As a TwinCAT export for an Omron drive has it: SM3 in mailbox mode (control 0x22).
+    EscDescription drive = drive_description();
+    for (auto& sync_manager : drive.process_data.sync_managers) {
+        sync_manager.control_byte = sync_manager.index == 2 ? 0x26 : 0x22;
+    }
+    Line line({drive});
+    line.assign_station_addresses();
+    line.fpwr(kFirstStation, 0x0600, fmmu(0x1000, 6, 0x1100, false));
+    line.fpwr(kFirstStation, 0x0610, fmmu(0x1006, 8, 0x1180, true));
+    line.fpwr(kFirstStation, 0x0800,
+              bytes({0x00, 0x10, 0x80, 0x00, 0x26, 0x00, 0x01, 0x00, 0x80, 0x10, 0x80, 0x00, 0x22, 0x00, 0x01, 0x00}));
+    line.fpwr(kFirstStation, 0x0120, le16(0x0002));
+    line.fpwr(kFirstStation, 0x0810, bytes({0x00, 0x11, 0x06, 0x00, 0x26, 0x00, 0x01, 0x00}));
+    line.fpwr(kFirstStation, 0x0818, bytes({0x80, 0x11, 0x08, 0x00, 0x22, 0x00, 0x01, 0x00}));
+    line.fpwr(kFirstStation, 0x0120, le16(0x0004));
+    line.fpwr(kFirstStation, 0x0120, le16(0x0008));
+    REQUIRE(line.fprd(kFirstStation, 0x0130, 1)[0] == 0x08);
+
+    std::optional<std::uint16_t> last_counter;
+    for (int cycle = 0; cycle < 5; ++cycle) {
+        INFO("cycle " << cycle);
+        const auto outputs = bytes({cycle, cycle + 1, cycle + 2, cycle + 3, cycle + 4, cycle + 5});
+        const Datagram written = line.transact(logical(Command::Lwr, 0x1000, outputs));
+        CHECK(written.wkc == 1);
+        const Datagram read = line.transact(logical(Command::Lrd, 0x1006, std::vector<std::uint8_t>(8, 0)));
+        CHECK(read.wkc == 1);
+        const std::vector<std::uint8_t> inputs(read.data.begin(), read.data.end());
+        if (last_counter) CHECK(counter_of(inputs) != *last_counter);
+        last_counter = counter_of(inputs);
+    }
+}

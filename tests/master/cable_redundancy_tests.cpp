@@ -3,7 +3,11 @@
 // in-process ecsim Segment (5 slaves in OP) and hands the returned copies
 // back in an order of its choosing, or drops some. Covers a line break at
 // every position of the ring (both master cables included), copies coming
-// back out of order, and copies lost on one side.
+// back out of order, copies lost on one side, and what the open-source
+// redundancy suites test: both master cables cut and restored, one adapter
+// failing to send while the other works, a start on a ring already broken,
+// an LRW split into LWR + LRD under a break, a copy that comes again after
+// its frame was answered, and DC receive times latched on a split ring.
 
 #include <algorithm>
 #include <array>
@@ -53,20 +57,55 @@ struct CycleRecord {
     std::vector<std::uint8_t> outputs;  // as written by this cycle's hook
 };
 
+// A master's adapter whose transmit path can fail while its carrier stays
+// as the cable has it (a NIC that refuses to send).
+class RefusingLink final : public link::Link {
+public:
+    explicit RefusingLink(link::Link& inner) : inner_(inner) {}
+    void refuse(bool on) { refuse_ = on; }
+    const std::string& name() const override { return inner_.name(); }
+    wire::MacAddress mac() const override { return inner_.mac(); }
+    Expected<void, link::LinkError> send(ConstBytes frame) override {
+        if (refuse_) {
+            return unexpected(link::LinkError{link::LinkErrc::SendFailed, inner_.name() + ": transmit failed"});
+        }
+        return inner_.send(frame);
+    }
+    Expected<std::optional<link::ReceivedFrame>, link::LinkError> try_receive(Bytes buffer) override {
+        return inner_.try_receive(buffer);
+    }
+    Expected<std::optional<link::ReceivedFrame>, link::LinkError> receive(Bytes buffer,
+                                                                          std::chrono::nanoseconds timeout) override {
+        return inner_.receive(buffer, timeout);
+    }
+    int selectable_fd() const override { return inner_.selectable_fd(); }
+    bool link_up() const override { return inner_.link_up(); }
+
+private:
+    link::Link& inner_;
+    bool refuse_ = false;
+};
+
 class SteppedRing {
 public:
     // Called with the returned copies of one cycle before they reach the master.
     using Delivery = std::function<void(std::vector<ReturnedCopy>&)>;
 
-    SteppedRing()
-        : eni_(generated_eni()),
+    // `before_start` runs on the segment once its slaves are in OP, before the master's first cycle.
+    explicit SteppedRing(std::shared_ptr<const eni::EniConfig> eni = generated_eni(),
+                         const std::function<void(SteppedRing&)>& before_start = {}, bool split_lrw = false)
+        : eni_(std::move(eni)),
           segment_(sim::Segment::from_eni(*eni_).value()),
           main_(link::MemoryWire::make_pair("m-main", mac(0x11), "sim-main", mac(0x21))),
-          red_(link::MemoryWire::make_pair("m-red", mac(0x12), "sim-red", mac(0x22))) {
+          red_(link::MemoryWire::make_pair("m-red", mac(0x12), "sim-red", mac(0x22))),
+          main_adapter_(*main_.a),
+          red_adapter_(*red_.a) {
         bring_segment_to_op();
+        if (before_start) before_start(*this);
         master::MasterOptions options;
         options.cable_redundancy = true;
-        master_ = master::Master::create(eni_, options, *main_.a, red_.a.get(), events_).value();
+        options.split_lrw = split_lrw;
+        master_ = master::Master::create(eni_, options, main_adapter_, &red_adapter_, events_).value();
         master_->request_state(eni::SlaveState::Op);
         master_->set_cycle_hook([this](master::ProcessImage& image, const master::CycleInfo& info) {
             // Every slave's outputs change every cycle, so a stale or lost input shows.
@@ -106,14 +145,30 @@ public:
 
     // Position 0 is the MAIN cable, kSlaves the RED cable, k between them the cable after slave k.
     void set_break(std::uint32_t position, bool broken) {
-        if (position == 0 || position == kSlaves) {
+        if (position == 0 || position == slave_count()) {
             const bool main_side = position == 0;
             (main_side ? *main_.wire : *red_.wire).set_link_up(!broken);
             segment_.set_side_link(main_side ? sim::Side::Main : sim::Side::Red, !broken);
-            master_->set_link_state(main_side ? master::LinkRole::Main : master::LinkRole::Red, !broken);
+            if (master_) master_->set_link_state(main_side ? master::LinkRole::Main : master::LinkRole::Red, !broken);
             return;
         }
         REQUIRE((broken ? segment_.break_link_after(position) : segment_.repair_link_after(position)));
+    }
+    std::uint32_t slave_count() const { return static_cast<std::uint32_t>(eni_->slaves.size()); }
+    // The adapter's transmit fails (its carrier stays).
+    void refuse_sends(master::LinkRole role, bool refuse) {
+        (role == master::LinkRole::Main ? main_adapter_ : red_adapter_).refuse(refuse);
+    }
+    sim::Segment& segment() { return segment_; }
+
+    // An acyclic exchange, with cycles run until it is answered.
+    Expected<bus::DatagramReply, bus::BusError> exchange(const bus::DatagramRequest& request) {
+        auto reply = std::async(std::launch::async, [&] { return master().bus().exchange(request); });
+        for (int i = 0; i < 500 && reply.wait_for(0ms) != std::future_status::ready; ++i) {
+            cycle();
+            std::this_thread::sleep_for(200us);  // lets the requesting thread queue its request
+        }
+        return reply.get();
     }
 
     master::Master& master() { return *master_; }
@@ -138,6 +193,8 @@ public:
         for (const auto& report : events_.pop_all(0ms)) out.push_back(report.event);
         return out;
     }
+
+    static std::shared_ptr<const eni::EniConfig> generated() { return generated_eni(); }
 
 private:
     static std::shared_ptr<const eni::EniConfig> generated_eni() {
@@ -174,6 +231,8 @@ private:
     sim::Segment segment_;
     link::MemoryWire::Ends main_;
     link::MemoryWire::Ends red_;
+    RefusingLink main_adapter_;
+    RefusingLink red_adapter_;
     master::EventQueue events_;
     std::unique_ptr<master::Master> master_;
     std::vector<Loopback> loopbacks_;
@@ -351,4 +410,207 @@ TEST_CASE("with the MAIN cable gone, auto-increment requests reach the slaves th
         CHECK(answer->wkc == 1);
         CHECK(load_le<std::uint16_t>(answer->data, 0) == 1001 + position);  // the slave at that position
     }
+}
+
+namespace {
+
+// The generated 5-slave ENI with its LWR + LRD turned into one LRW over the same range (the
+// slaves' inputs and outputs share their logical addresses, as many masters lay them out).
+std::shared_ptr<const eni::EniConfig> lrw_eni() {
+    sim::GeneratedEniOptions options;
+    options.slaves = kSlaves;
+    options.input_bytes = 8;
+    options.output_bytes = 8;
+    auto xml = sim::generate_eni(options);
+    // The LWR becomes the LRW (read 1 + write 2 per slave); the LRD goes.
+    const auto lwr = xml.find("<Comment>PD; LWR</Comment>");
+    REQUIRE(lwr != std::string::npos);
+    const auto code = xml.find("<Cmd>11</Cmd>", lwr);
+    REQUIRE(code != std::string::npos);
+    xml.replace(code, std::string("<Cmd>11</Cmd>").size(), "<Cmd>12</Cmd>");
+    const auto count = xml.find("<Cnt>5</Cnt>", code);
+    REQUIRE(count != std::string::npos);
+    xml.replace(count, std::string("<Cnt>5</Cnt>").size(), "<Cnt>15</Cnt>");
+    const auto lrd = xml.find("<Comment>PD; LRD</Comment>");
+    REQUIRE(lrd != std::string::npos);
+    const auto begin = xml.rfind("<Cmd>", lrd);
+    const std::string close = "</Cmd>";
+    const auto end = xml.find(close, xml.find("<OutputOffs>", lrd)) + close.size();
+    xml.erase(begin, end - begin);
+    auto eni = eni::load_eni_string(xml, "lrw.xml");
+    INFO((eni ? std::string() : eni.error().describe()));
+    REQUIRE(eni);
+    REQUIRE((*eni)->uses_logical_read_write());
+    return *eni;
+}
+
+bool raised(const std::vector<master::Event>& events, master::EventKind kind) {
+    return std::any_of(events.begin(), events.end(), [kind](const master::Event& e) { return e.kind == kind; });
+}
+
+}  // namespace
+
+TEST_CASE("both master cables cut and restored: nothing comes back meanwhile, then every cycle again",
+          "[master][cable_redundancy]") {
+    SteppedRing ring;
+    ring.cycles(10);
+    (void)ring.events();
+    ring.set_break(0, true);
+    ring.set_break(kSlaves, true);
+    ring.cycles(5);
+    const std::uint64_t cut = ring.current_cycle();
+    const auto stats_cut = ring.master().stats();
+    CHECK(stats_cut.frames_lost > 0);
+    CHECK(stats_cut.cycles_incomplete > 0);
+    CHECK_FALSE(ring.inputs_valid(cut));  // no inputs made up while nothing came back
+    const auto at_cut = ring.events();
+    CHECK(raised(at_cut, master::events::kFrameLost));
+
+    ring.set_break(0, false);
+    ring.set_break(kSlaves, false);
+    ring.cycles(10);
+    CHECK(ring.master().ring_state() == master::RingState::Closed);
+    require_every_cycle_complete(ring, ring.current_cycle() - 6);
+    // Acyclic requests work again, on either side of the ring.
+    bus::DatagramRequest brd;
+    brd.command = wire::Command::Brd;
+    brd.address = wire::DatagramHeader::physical(0, wire::reg::kType);
+    brd.data.assign(2, 0);
+    const auto reply = ring.exchange(brd);
+    REQUIRE(reply);
+    CHECK(reply->wkc == kSlaves);
+}
+
+TEST_CASE("one adapter fails to send while the other works", "[master][cable_redundancy]") {
+    SteppedRing ring;
+    ring.cycles(10);
+    (void)ring.events();
+
+    SECTION("RED refuses: the MAIN copy passes every slave, no cycle is lost") {
+        ring.refuse_sends(master::LinkRole::Red, true);
+        ring.cycles(10);
+        require_every_cycle_complete(ring, 4);
+        CHECK(ring.master().stats().frames_lost == 0);
+        CHECK(ring.master().stats().send_errors > 0);
+    }
+    SECTION("MAIN refuses with its carrier up: RED's copy passes the ring unprocessed, the loss is said") {
+        ring.refuse_sends(master::LinkRole::Main, true);
+        ring.cycles(5);
+        const std::uint64_t refused = ring.current_cycle();
+        CHECK_FALSE(ring.inputs_valid(refused));
+        CHECK(ring.master().stats().cycles_incomplete > 0);
+        CHECK(raised(ring.events(), master::events::kFrameLost));
+        ring.refuse_sends(master::LinkRole::Main, false);
+        ring.cycles(6);
+        require_every_cycle_complete(ring, ring.current_cycle() - 3);
+    }
+    SECTION("MAIN refuses because its cable is gone: RED's copy is processed from slave 1 on, no cycle lost") {
+        ring.refuse_sends(master::LinkRole::Main, true);
+        ring.set_break(0, true);
+        const std::uint64_t from = ring.current_cycle() + 2;
+        ring.cycles(10);
+        require_every_cycle_complete(ring, from);
+    }
+}
+
+TEST_CASE(
+    "a master starting on a ring already broken: cycles complete, the break raised once with its place, "
+    "auto-increment requests reach both halves",
+    "[master][cable_redundancy]") {
+    SteppedRing ring(SteppedRing::generated(), [](SteppedRing& r) { r.set_break(3, true); });
+    ring.cycles(10);
+    CHECK(ring.master().ring_state() == master::RingState::Broken);
+    require_every_cycle_complete(ring, 4);
+    CHECK(ring.master().stats().frames_lost == 0);
+    std::vector<master::Event> breaks;
+    for (const auto& e : ring.events()) {
+        if (e.kind == master::events::kLineBreak) breaks.push_back(e);
+    }
+    REQUIRE(!breaks.empty());
+    CHECK(breaks.back().a == 3);
+    CHECK(breaks.back().b == 1);
+    for (std::uint16_t position = 0; position < kSlaves; ++position) {
+        INFO("position " << position);
+        bus::DatagramRequest request;
+        request.command = wire::Command::Aprd;
+        request.address =
+            wire::DatagramHeader::physical(static_cast<std::uint16_t>(-position), wire::reg::kStationAddress);
+        request.data.assign(2, 0);
+        const auto answer = ring.exchange(request);
+        REQUIRE(answer);
+        CHECK(answer->wkc == 1);
+        CHECK(load_le<std::uint16_t>(answer->data, 0) == 1001 + position);
+    }
+}
+
+TEST_CASE("an LRW split into LWR + LRD under a break: every slave's inputs, from whichever half",
+          "[master][cable_redundancy]") {
+    SteppedRing ring(lrw_eni(), {}, /*split_lrw=*/true);
+    ring.cycles(10);
+    ring.set_break(2, true);
+    ring.cycles(10);
+    ring.set_break(2, false);
+    ring.set_break(4, true);
+    ring.cycles(10);
+    require_every_cycle_complete(ring, 4);
+    const auto stats = ring.master().stats();
+    CHECK(stats.frames_lost == 0);
+    CHECK(stats.wkc_errors == 0);
+}
+
+TEST_CASE("a copy that comes again after its frame was answered changes nothing", "[master][cable_redundancy]") {
+    const bool broken = GENERATE(false, true);
+    INFO((broken ? "ring broken after slave 2" : "ring closed"));
+    SteppedRing ring;
+    if (broken) ring.set_break(2, true);
+    ring.cycles(10);
+    std::vector<ReturnedCopy> previous;
+    // Each cycle the copies of the cycle before come again, after this cycle's own: late duplicates.
+    ring.cycles(10, [&previous](std::vector<ReturnedCopy>& copies) {
+        const auto now = copies;
+        copies.insert(copies.end(), previous.begin(), previous.end());
+        previous = now;
+    });
+    // And a copy twice within its own cycle.
+    ring.cycles(5, [](std::vector<ReturnedCopy>& copies) {
+        const auto twice = copies;
+        copies.insert(copies.end(), twice.begin(), twice.end());
+    });
+    require_every_cycle_complete(ring, 4);
+    const auto stats = ring.master().stats();
+    CHECK(stats.frames_lost == 0);
+    CHECK(stats.wkc_errors == 0);
+    CHECK(stats.late_frames > 0);  // counted, and never taken for a newer frame's answer
+}
+
+TEST_CASE("DC receive times on a split ring: every slave latches, each reads back its own times",
+          "[master][cable_redundancy]") {
+    SteppedRing ring;
+    ring.set_break(2, true);
+    ring.cycles(10);
+    // Latch: a BWR to 0x0900 makes every slave, on both halves, note when the frame passed its ports.
+    bus::DatagramRequest latch;
+    latch.command = wire::Command::Bwr;
+    latch.address = wire::DatagramHeader::physical(0, wire::reg::kDcReceiveTimes);
+    latch.data.assign(4, 0);
+    const auto latched = ring.exchange(latch);
+    REQUIRE(latched);
+    CHECK(latched->wkc == kSlaves);
+    std::vector<std::vector<std::uint8_t>> latches;
+    for (std::uint16_t i = 0; i < kSlaves; ++i) {
+        INFO("station " << 1001 + i);
+        bus::DatagramRequest read;
+        read.command = wire::Command::Fprd;
+        read.address = wire::DatagramHeader::physical(static_cast<std::uint16_t>(1001 + i), wire::reg::kDcReceiveTimes);
+        read.data.assign(16, 0);
+        const auto times = ring.exchange(read);
+        REQUIRE(times);
+        CHECK(times->wkc == 1);
+        // The slave's own latches, not the zeros the master sent (which the other half carries back).
+        CHECK(std::any_of(times->data.begin(), times->data.end(), [](std::uint8_t b) { return b != 0; }));
+        latches.push_back(times->data);
+    }
+    // Every slave latched its own moments.
+    std::sort(latches.begin(), latches.end());
+    CHECK(std::adjacent_find(latches.begin(), latches.end()) == latches.end());
 }

@@ -178,6 +178,53 @@ TEST_CASE("ecsim sees the MAIN cable pulled and the ring closes at slave 1", "[n
     CHECK(wkc_of(bench.round_trip(true, false)) == 5);
 }
 
+namespace {
+
+// The probe's carrier, as the kernel reports it, reaching `up` within the hang guard.
+bool carrier_becomes(link::PcapLink& probe, bool up) {
+    const auto give_up = std::chrono::steady_clock::now() + kHangGuard;
+    while (probe.link_up() != up) {
+        if (std::chrono::steady_clock::now() > give_up) return false;
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    return true;
+}
+
+}  // namespace
+
+TEST_CASE("ecsim's interfaces are PHYs: the slave facing an interface without power, or its cable cut, takes "
+          "the interface's carrier, and gives it back",
+          "[netns][ecsim]") {
+    EcsimBench bench;
+    REQUIRE(carrier_becomes(bench.probe(true), true));
+    REQUIRE(carrier_becomes(bench.probe(false), true));
+
+    // Slave 1 faces MAIN.
+    CHECK(bench.ctl("power-off 1").first == 0);
+    CHECK(carrier_becomes(bench.probe(true), false));
+    CHECK(bench.probe(false).link_up());
+    const TestFrame rest = bench.round_trip(false, false);  // slaves 2..5 answer from RED
+    CHECK(wkc_of(rest) == 4);
+    CHECK(bench.ctl("power-on 1").first == 0);
+    CHECK(carrier_becomes(bench.probe(true), true));
+    bench.await_status("main=up");
+    CHECK(wkc_of(bench.round_trip(true, false)) == 5);
+
+    // Slave 5 faces RED.
+    CHECK(bench.ctl("power-off 5").first == 0);
+    CHECK(carrier_becomes(bench.probe(false), false));
+    CHECK(bench.probe(true).link_up());
+    CHECK(bench.ctl("power-on 5").first == 0);
+    CHECK(carrier_becomes(bench.probe(false), true));
+
+    // The MAIN cable cut inside the segment, and mended.
+    CHECK(bench.ctl("break 0").first == 0);
+    CHECK(carrier_becomes(bench.probe(true), false));
+    CHECK(bench.ctl("repair 0").first == 0);
+    CHECK(carrier_becomes(bench.probe(true), true));
+    CHECK_THAT(bench.ecsim().log(), Catch::Contains("faces no PHY") && Catch::Contains("PHY is back"));
+}
+
 TEST_CASE("ecsim --pcap records every frame in and out and flushes it at exit", "[netns][ecsim]") {
     EcsimBench bench;
     for (int i = 0; i < 3; ++i) CHECK(wkc_of(bench.round_trip(true, false)) == 5);

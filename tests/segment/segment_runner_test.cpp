@@ -44,9 +44,16 @@ public:
             pcap.emplace(std::move(recorder).value());
         }
         ecsim::RunnerSetup setup{line_segment(5), std::move(main_.b), std::move(red_.b), {},
-                                 std::move(pcap), control_path(),     stop_fd_};
+                                 std::move(pcap), control_path(),     stop_fd_, {}};
         setup.link_states.push_back(main_.wire->watch());
         setup.link_states.push_back(red_.wire->watch());
+        // The PHY's carrier: the wire's (one flag for both ends, like a veth's carrier).
+        setup.set_carrier = [this](sim::Side side, bool up) -> Expected<bool, std::string> {
+            auto& cable = wire(side);
+            if (!up && !cable.link_up()) return false;
+            cable.set_link_up(up);
+            return true;
+        };
         auto runner = ecsim::SegmentRunner::create(std::move(setup));
         REQUIRE(runner);
         runner_ = std::move(runner).value();
@@ -166,6 +173,55 @@ TEST_CASE("ecsim follows the MAIN cable's carrier", "[runner]") {
     bench.wire(sim::Side::Main).set_link_up(true);
     bench.await_status("main=up");
     CHECK(wkc_of(bench.round_trip(sim::Side::Main, sim::Side::Red, brd())) == 5);
+}
+
+TEST_CASE("the interface facing a slave without power, or a cut cable, loses its carrier, and gets it back",
+          "[runner]") {
+    MemoryBench bench(/*with_pcap=*/false);
+    const auto main = sim::Side::Main;
+    const auto red = sim::Side::Red;
+
+    SECTION("the slave facing MAIN powered off and on") {
+        CHECK(bench.request("power-off 1") == "ok slave 1 powered off");
+        CHECK_FALSE(bench.probe(main).link_up());
+        CHECK(bench.probe(red).link_up());
+        bench.await_status("main=down");
+        // The rest of the ring answers from RED, processed from slave 2 on.
+        const TestFrame back = bench.round_trip(red, red, brd());
+        CHECK(wkc_of(back) == 4);
+        CHECK(bench.request("power-on 1") == "ok slave 1 powered on");
+        CHECK(bench.probe(main).link_up());
+        bench.await_status("main=up");
+        CHECK(wkc_of(bench.round_trip(main, red, brd())) == 5);
+    }
+    SECTION("the slave facing RED powered off and on") {
+        CHECK(bench.request("power-off 5") == "ok slave 5 powered off");
+        CHECK_FALSE(bench.probe(red).link_up());
+        CHECK(bench.probe(main).link_up());
+        CHECK(wkc_of(bench.round_trip(main, main, brd())) == 4);
+        CHECK(bench.request("power-on 5") == "ok slave 5 powered on");
+        CHECK(bench.probe(red).link_up());
+        bench.await_status("red=up");
+        CHECK(wkc_of(bench.round_trip(main, red, brd())) == 5);
+    }
+    SECTION("the MAIN cable cut inside the segment and mended") {
+        CHECK(bench.request("break 0") == "ok link after slave 0 broken");
+        CHECK_FALSE(bench.probe(main).link_up());
+        CHECK(bench.request("repair 0") == "ok link after slave 0 repaired");
+        CHECK(bench.probe(main).link_up());
+    }
+    SECTION("a slave further down changes no interface's carrier") {
+        CHECK(bench.request("power-off 3") == "ok slave 3 powered off");
+        CHECK(bench.probe(main).link_up());
+        CHECK(bench.probe(red).link_up());
+    }
+    SECTION("a carrier taken away by someone else is not raised by a power-on") {
+        bench.wire(main).set_link_up(false);
+        bench.await_status("main=down");
+        CHECK(bench.request("power-off 1") == "ok slave 1 powered off");
+        CHECK(bench.request("power-on 1") == "ok slave 1 powered on");
+        CHECK_FALSE(bench.probe(main).link_up());
+    }
 }
 
 TEST_CASE("ecsim records every frame in and out, and flushes at exit", "[runner][pcap]") {

@@ -4,7 +4,6 @@
 #include <catch2/catch.hpp>
 
 #include "ecpair/common/bytes.hpp"
-#include "ecpair/sequencer/dc_start_time.hpp"
 #include "ecpair/sequencer/init_cmd_runner.hpp"
 #include "ecpair/wire/esc_registers.hpp"
 #include "fakes.hpp"
@@ -158,7 +157,7 @@ TEST_CASE("The zero DC start time is replaced by the computed one", "[sequencer]
     cmd.data.assign(8, 0);
     cmd.expected_wkc = 1;
     auto context = drive();
-    context.dc = sequencer::DcStartTimeParameters{bus::SlaveAddress::station(1001), 1'000'000, 250'000};
+    context.dc = dc::StartTimeParameters{bus::SlaveAddress::station(1001), 1'000'000, 250'000};
 
     REQUIRE(runner.run(cmd, context));
     const auto requests = bus.requests();
@@ -174,27 +173,6 @@ TEST_CASE("The zero DC start time is replaced by the computed one", "[sequencer]
         REQUIRE(runner.run(cmd, context));
         CHECK(written == cmd.data);
     }
-}
-
-TEST_CASE("DC start time arithmetic and the reference clock choice", "[sequencer][dc]") {
-    using std::chrono::milliseconds;
-    CHECK(sequencer::dc_start_time(0, milliseconds(100), 1'000'000, 0) == 100'000'000);
-    CHECK(sequencer::dc_start_time(1, milliseconds(100), 1'000'000, 0) == 101'000'000);
-    CHECK(sequencer::dc_start_time(1, milliseconds(100), 1'000'000, -300'000) == 100'700'000);
-    CHECK(sequencer::dc_start_time(7, milliseconds(0), 0, 0) == 7);
-
-    eni::EniConfig eni;
-    eni.slaves.resize(3);
-    eni.slaves[1].dc = eni::DistributedClocks{};
-    eni.slaves[2].dc = eni::DistributedClocks{};
-    CHECK(sequencer::reference_clock_index(eni, {true, true, true}) == std::size_t{1});  // first with DC
-    eni.slaves[2].dc->reference_clock = true;
-    CHECK(sequencer::reference_clock_index(eni, {true, true, true}) == std::size_t{2});  // the marked one
-    CHECK(sequencer::reference_clock_index(eni, {true, true, false}) == std::size_t{1});  // marked one absent
-    eni.slaves[1].dc.reset();
-    eni.slaves[2].dc.reset();
-    CHECK(sequencer::reference_clock_index(eni, {false, true, true}) == std::size_t{1});  // no DC: first present
-    CHECK_FALSE(sequencer::reference_clock_index(eni, {false, false, false}));
 }
 
 TEST_CASE("Position-addressed commands move by the absent slaves ahead", "[sequencer][initcmd]") {

@@ -6,7 +6,7 @@
 #include "ecpair/common/log.hpp"
 #include "ecpair/master/master_events.hpp"
 #include "ecpair/eni/identification.hpp"
-#include "ecpair/sequencer/dc_start_time.hpp"
+#include "ecpair/dc/start_time.hpp"
 #include "ecpair/sequencer/identification_update.hpp"
 #include "ecpair/wire/al_status.hpp"
 #include "ecpair/wire/esc_registers.hpp"
@@ -58,17 +58,7 @@ sequencer::CommandContext GroupBringUp::context_for(const BringUpRequest& reques
     context.station = slave.info.phys_addr;
     context.slave_index = index;
     context.position_shift = request.position_shift[index];
-    if (const auto reference = sequencer::reference_clock_index(*eni_, request.present)) {
-        sequencer::DcStartTimeParameters dc{bus::SlaveAddress::station(eni_->slaves[*reference].info.phys_addr), 0, 0};
-        if (slave.dc) {
-            dc.cycle_time_ns = slave.dc->cycle_time0_ns.value_or(0);
-            dc.shift_time_ns = slave.dc->shift_time_ns.value_or(0);
-        }
-        if (dc.cycle_time_ns == 0 && !eni_->cyclic.empty() && eni_->cyclic.front().cycle_time_us) {
-            dc.cycle_time_ns = *eni_->cyclic.front().cycle_time_us * 1000u;
-        }
-        context.dc = dc;
-    }
+    context.dc = dc::start_time_parameters(*eni_, index, request.present);
     return context;
 }
 

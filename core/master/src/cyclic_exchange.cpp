@@ -73,9 +73,11 @@ bool CyclicExchange::counters_complete(std::size_t index, const wire::ConstFrame
     if (returned.datagram_count() != list.size()) return false;
     bool any = false;
     std::size_t i = 0;
+    const auto& datagrams = plan_.frames[index].datagrams;
     for (const auto d : returned) {
-        const auto& expected = expected_[first_[index] + list[i++]];
-        if (!expected) continue;
+        const auto& expected = expected_[first_[index] + list[i]];
+        const auto& planned = datagrams[list[i++]];
+        if (!expected || slot < state_slot(planned.valid_from)) continue;
         if (d.wkc() != *expected) return false;
         any = true;
     }
@@ -112,8 +114,9 @@ FrameCompletion CyclicExchange::complete(std::size_t index, const wire::ConstFra
             std::copy(d.data().begin(), d.data().end(), inputs.begin() + *planned.input_offset);
         }
         last_wkc_[flat] = d.wkc();
+        // Not before the state its WKC can be right in (process data: SAFEOP).
         const auto& expected = expected_[flat];
-        if (expected && d.wkc() != *expected) {
+        if (expected && slot >= state_slot(planned.valid_from) && d.wkc() != *expected) {
             ++result.wkc_errors;
             if (mismatches.size() < mismatches.capacity()) {
                 mismatches.push_back(WkcMismatch{static_cast<std::uint16_t>(index), &planned, *expected, d.wkc()});

@@ -5,7 +5,6 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
-#include "ecpair/common/log.hpp"
 #include "ecpair/wire/constants.hpp"
 #include "ecpair/wire/datagram.hpp"
 #include "ecpair/wire/esc_registers.hpp"
@@ -15,6 +14,7 @@ namespace ecpair::master {
 namespace {
 
 constexpr std::uint32_t kFrameImageFirstDatagram = wire::kEthernetHeaderSize + wire::kEcatHeaderSize;
+constexpr std::uint16_t kProcessRam = 0x1000;  // ESC addresses of process data and mailbox buffers start here
 
 // TwinCAT's frame-image offsets: the first datagram header of the first frame
 // sits at 16 and every next one right after the previous datagram.
@@ -71,6 +71,38 @@ std::vector<PlannedFrame> pack(const std::vector<std::vector<PlannedDatagram>>& 
     return frames;
 }
 
+// Calls `visit(cmd, fmmu)` for every active FMMU record an InitCmd of `slave` writes
+// (whole 16-byte records, APWR/FPWR at 0x0600 + 16n) that overlaps [address, address + length).
+template <class Visit>
+void for_each_fmmu(const eni::Slave& slave, std::uint32_t address, std::size_t length, Visit&& visit) {
+    for (const auto& cmd : slave.init_cmds) {
+        if (cmd.command != wire::Command::Fpwr && cmd.command != wire::Command::Apwr) continue;
+        const std::uint32_t end = static_cast<std::uint32_t>(cmd.ado) + static_cast<std::uint32_t>(cmd.data.size());
+        if (cmd.ado < wire::reg::kFmmuBase || cmd.ado >= wire::reg::kSmBase) continue;
+        for (std::uint32_t at = cmd.ado; at + wire::FmmuConfig::kSize <= end; at += wire::FmmuConfig::kSize) {
+            if ((at - wire::reg::kFmmuBase) % wire::FmmuConfig::kSize != 0) break;
+            const auto fmmu =
+                wire::FmmuConfig::decode(ConstBytes(cmd.data).subspan(at - cmd.ado, wire::FmmuConfig::kSize));
+            if (!fmmu.active || !fmmu.overlaps(address, length)) continue;
+            visit(cmd, fmmu);
+        }
+    }
+}
+
+// The state an InitCmd's effect is there in: the lowest state its upward
+// transitions lead to (nullopt: it names none).
+std::optional<eni::SlaveState> reached_by(const eni::EcatCmd& cmd) {
+    std::optional<eni::SlaveState> reached;
+    for (std::size_t t = 0; t < eni::kTransitionCount; ++t) {
+        const auto transition = static_cast<eni::Transition>(t);
+        if (!cmd.transitions.contains(transition)) continue;
+        const auto to = eni::to_state(transition);
+        if (to == eni::SlaveState::Boot || to <= eni::from_state(transition)) continue;
+        if (!reached || to < *reached) reached = to;
+    }
+    return reached;
+}
+
 }  // namespace
 
 std::string_view to_string(OffsetConvention convention) {
@@ -82,24 +114,28 @@ FmmuDirections fmmu_directions(const eni::EniConfig& eni, std::uint32_t address,
     for (const auto& slave : eni.slaves) {
         bool reads = false;
         bool writes = false;
-        for (const auto& cmd : slave.init_cmds) {
-            if (cmd.command != wire::Command::Fpwr && cmd.command != wire::Command::Apwr) continue;
-            const std::uint32_t end = static_cast<std::uint32_t>(cmd.ado) + static_cast<std::uint32_t>(cmd.data.size());
-            if (cmd.ado < wire::reg::kFmmuBase || cmd.ado >= wire::reg::kSmBase) continue;
-            // Whole 16-byte FMMU records written by this command.
-            for (std::uint32_t at = cmd.ado; at + wire::FmmuConfig::kSize <= end; at += wire::FmmuConfig::kSize) {
-                if ((at - wire::reg::kFmmuBase) % wire::FmmuConfig::kSize != 0) break;
-                const auto fmmu = wire::FmmuConfig::decode(
-                    ConstBytes(cmd.data).subspan(at - cmd.ado, wire::FmmuConfig::kSize));
-                if (!fmmu.active || !fmmu.overlaps(address, length)) continue;
-                reads = reads || fmmu.read;
-                writes = writes || fmmu.write;
-            }
-        }
+        for_each_fmmu(slave, address, length, [&](const eni::EcatCmd&, const wire::FmmuConfig& fmmu) {
+            reads = reads || fmmu.read;
+            writes = writes || fmmu.write;
+        });
         directions.readers = static_cast<std::uint16_t>(directions.readers + (reads ? 1 : 0));
         directions.writers = static_cast<std::uint16_t>(directions.writers + (writes ? 1 : 0));
     }
     return directions;
+}
+
+eni::SlaveState logical_range_valid_from(const eni::EniConfig& eni, std::uint32_t address, std::size_t length) {
+    bool mapped = false;
+    auto valid_from = eni::SlaveState::Preop;
+    for (const auto& slave : eni.slaves) {
+        for_each_fmmu(slave, address, length, [&](const eni::EcatCmd& cmd, const wire::FmmuConfig& fmmu) {
+            mapped = true;
+            const auto state = fmmu.physical_start >= kProcessRam ? eni::SlaveState::Safeop
+                                                                  : reached_by(cmd).value_or(eni::SlaveState::Safeop);
+            valid_from = std::max(valid_from, state);
+        });
+    }
+    return mapped ? valid_from : eni::SlaveState::Safeop;
 }
 
 Expected<CyclicPlan, PlanError> CyclicPlan::build(const eni::EniConfig& eni, const PlanOptions& options) {
@@ -142,23 +178,35 @@ Expected<CyclicPlan, PlanError> CyclicPlan::build(const eni::EniConfig& eni, con
             if (wire::command_writes(cmd.command) && cmd.output_offset) {
                 d.output_offset = *cmd.output_offset + data_shift;
             }
+            if (wire::addressing_of(cmd.command) == wire::Addressing::Logical) {
+                d.valid_from = logical_range_valid_from(eni, cmd.logical_address, cmd.data_length);
+            }
 
             if (cmd.command == wire::Command::Lrw && options.cable_redundancy && options.split_lrw) {
                 const auto directions = fmmu_directions(eni, cmd.logical_address, cmd.data_length);
-                if (cmd.expected_wkc && *cmd.expected_wkc != 2 * directions.writers + directions.readers) {
-                    logger("master")->warn(
-                        "{}: LRW at line {} expects WKC {}, but the FMMUs give {} writer(s) and {} reader(s)",
-                        eni.source_path, cmd.source_line, *cmd.expected_wkc, directions.writers, directions.readers);
+                const auto derived = 2 * directions.writers + directions.readers;
+                if (cmd.expected_wkc && *cmd.expected_wkc != derived) {
+                    return unexpected(PlanError{fmt::format(
+                        "{}: the LRW at line {} expects WKC {}, but the slaves' FMMU InitCmds map its range "
+                        "0x{:08x}+{} for {} writer(s) and {} reader(s) (WKC {}): split into LWR + LRD for cable "
+                        "redundancy, its expected WKCs cannot be derived. The ENI's FMMU records do not match its "
+                        "cyclic commands; export it again (an encrypted or edited file shows this)",
+                        eni.source_path, cmd.source_line, *cmd.expected_wkc, cmd.logical_address, cmd.data_length,
+                        directions.writers, directions.readers, derived)});
                 }
+                // Without a <Cnt> the ENI asks for no check, and neither half gets one.
+                const auto expected = [&](std::uint16_t count) {
+                    return cmd.expected_wkc ? std::optional<std::uint16_t>(count) : std::nullopt;
+                };
                 PlannedDatagram write = d;
                 write.command = wire::Command::Lwr;
                 write.input_offset.reset();
-                write.expected_wkc = directions.writers;
+                write.expected_wkc = expected(directions.writers);
                 write.split_from_lrw = true;
                 PlannedDatagram read = d;
                 read.command = wire::Command::Lrd;
                 read.output_offset.reset();
-                read.expected_wkc = directions.readers;
+                read.expected_wkc = expected(directions.readers);
                 read.split_from_lrw = true;
                 datagrams.push_back(write);
                 datagrams.push_back(read);

@@ -57,6 +57,8 @@ std::uint8_t FrameTracker::open(FrameKind kind, std::uint16_t index, std::uint64
         for (const auto d : *view) d.set_index(slot.generation);
         slot.signature = signature_of(*view);
     }
+    slot.sent_size = std::min(frame.size(), slot.sent_bytes.size());
+    std::copy_n(frame.begin(), slot.sent_size, slot.sent_bytes.begin());
     slot.present = {false, false};
     slot.sizes = {0, 0};
     return id;

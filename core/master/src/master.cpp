@@ -267,7 +267,7 @@ void Master::complete_previous_cycle(link::Clock::time_point now) {
         }
         auto merged = main_copy.path == CopyPath::Missing && red_copy.path == CopyPath::Missing
                           ? Expected<MergeResult, MergeError>(unexpected(MergeError{"lost"}))
-                          : merge_copies(main_copy, red_copy, merged_);
+                          : merge_copies(tracker_.sent_bytes(f.id), main_copy, red_copy, merged_);
         std::optional<wire::ConstFrameView> view;
         if (merged) {
             auto parsed = wire::ConstFrameView::parse(ConstBytes(merged_.data(), merged->size));

@@ -124,7 +124,7 @@ Expected<bus::DatagramRequest, InitCmdError> InitCmdRunner::build_request(const 
     request.data = cmd.data;
     request.timeout = attempt_timeout(cmd, options_);
     request.retries = 0;
-    if (!is_zero_start_time_write(cmd)) return request;
+    if (!dc::is_zero_start_time_write(cmd)) return request;
 
     if (!context.dc) {
         logger("sequencer")->warn("{}: ENI line {}: DC start time written as zeros (no reference clock known)",
@@ -147,7 +147,7 @@ Expected<bus::DatagramRequest, InitCmdError> InitCmdRunner::build_request(const 
                                   nullptr));
     }
     const auto system_time = load_le<std::uint64_t>(time->data, 0);
-    const auto start = dc_start_time(system_time, options_.start_time_margin, context.dc->cycle_time_ns,
+    const auto start = dc::start_time(system_time, options_.start_time_margin, context.dc->cycle_time_ns,
                                      context.dc->shift_time_ns);
     for (std::size_t i = 0; i < request.data.size() && i < 8; ++i) {
         request.data[i] = static_cast<std::uint8_t>(start >> (8 * i));

@@ -10,7 +10,6 @@
 #include "ecpair/common/bytes.hpp"
 #include "ecpair/common/log.hpp"
 #include "ecpair/master/master_events.hpp"
-#include "ecpair/sequencer/dc_start_time.hpp"
 #include "ecpair/sequencer/identification_update.hpp"
 #include "ecpair/sequencer/state_rollback.hpp"
 #include "ecpair/wire/al_status.hpp"
@@ -411,17 +410,7 @@ CommandContext MasterStateMachine::context_for(std::size_t slave_index) const {
         std::lock_guard lock(mutex_);
         context.position_shift = position_shift_[slave_index];
     }
-    if (const auto reference = reference_clock_index(*eni_, presence())) {
-        DcStartTimeParameters dc{bus::SlaveAddress::station(eni_->slaves[*reference].info.phys_addr), 0, 0};
-        if (slave.dc) {
-            dc.cycle_time_ns = slave.dc->cycle_time0_ns.value_or(0);
-            dc.shift_time_ns = slave.dc->shift_time_ns.value_or(0);
-        }
-        if (dc.cycle_time_ns == 0 && !eni_->cyclic.empty() && eni_->cyclic.front().cycle_time_us) {
-            dc.cycle_time_ns = *eni_->cyclic.front().cycle_time_us * 1000u;
-        }
-        context.dc = dc;
-    }
+    context.dc = dc::start_time_parameters(*eni_, slave_index, presence());
     return context;
 }
 

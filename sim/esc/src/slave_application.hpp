@@ -7,6 +7,13 @@
 //                 SAFEOP: zeros (outputs are not applied in SAFEOP)
 //
 // An input SyncManager of less than 2 bytes gets the mirrored outputs only.
+// A single-buffered (mailbox-mode) SyncManager works as a drive's firmware
+// works it: the inputs are written when the master has read the last ones
+// (the buffer is empty) and the buffer is then marked full, so the next
+// LRD reads them (a TwinCAT export for an Omron drive has its inputs on SM3
+// with control byte 0x22); outputs the master wrote into a full one are
+// taken and the buffer emptied for the next LWR. The counter then counts
+// the buffers written.
 // A slave identified by an input word shows its value at that address of the
 // input buffer on top of all that.
 // "Outputs" and "inputs" are the buffers of the first Outputs and Inputs
@@ -26,7 +33,7 @@ namespace ecpair::sim {
 
 class SlaveApplication {
 public:
-    SlaveApplication(EscMemory& memory, const SyncManagerUnit& sync_managers, const EscLayout& layout);
+    SlaveApplication(EscMemory& memory, SyncManagerUnit& sync_managers, const EscLayout& layout);
 
     void reset() { counter_ = 0; }
     // Input-word identification: `value` at ESC address `address`, when it
@@ -41,7 +48,7 @@ private:
     bool usable(const SmChannel& channel, bool ecat_writes) const;
 
     EscMemory& memory_;
-    const SyncManagerUnit& sync_managers_;
+    SyncManagerUnit& sync_managers_;
     int output_sm_;
     int input_sm_;
     std::uint16_t counter_ = 0;

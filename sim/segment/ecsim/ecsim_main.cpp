@@ -14,8 +14,10 @@
 #include <sys/signalfd.h>
 #include <unistd.h>
 
+#include <array>
 #include <cerrno>
 #include <cstdio>
+#include <memory>
 #include <system_error>
 #include <variant>
 
@@ -24,6 +26,7 @@
 #include "ecpair/common/log.hpp"
 #include "ecpair/common/realtime.hpp"
 #include "ecpair/eni/loader.hpp"
+#include "ecpair/link/link_admin.hpp"
 #include "ecpair/link/link_state_monitor.hpp"
 #include "ecpair/link/pcap_link.hpp"
 #include "segment_runner.hpp"
@@ -94,8 +97,30 @@ int run_simulator(const RunOptions& options) {
                       {},
                       std::move(pcap),
                       options.control,
-                      stop_fd};
+                      stop_fd,
+                      {}};
     setup.link_states.push_back(std::move(monitor).value());
+    // The interfaces show the carrier of the slave PHY they face (a veth's
+    // carrier follows its peer's administrative state).
+    auto admin = link::LinkAdmin::open();
+    if (admin) {
+        std::shared_ptr<link::LinkAdmin> shared = std::move(admin).value();
+        const std::array<std::string, 2> names{options.main_if, options.red_if.value_or(std::string())};
+        setup.set_carrier = [shared, names](sim::Side side, bool up) -> Expected<bool, std::string> {
+            const auto& name = names[static_cast<std::size_t>(side)];
+            if (!up) {
+                // Down already: someone else's doing, and theirs to undo.
+                auto is_up = shared->is_up(name);
+                if (!is_up) return unexpected(is_up.error().message);
+                if (!*is_up) return false;
+            }
+            auto set = shared->set_up(name, up);
+            if (!set) return unexpected(set.error().message);
+            return true;
+        };
+    } else {
+        main_log().warn("interfaces keep their carrier when a slave PHY is gone: {}", admin.error().message);
+    }
     auto runner = SegmentRunner::create(std::move(setup));
     if (!runner) return fail(runner.error());
     const int status = (*runner)->run();

@@ -64,7 +64,11 @@ SegmentRunner::~SegmentRunner() {
 std::string SegmentRunner::handle_control(std::string_view line) {
     const auto request = sim::parse_control_request(line);
     if (!request) return sim::control_error(request.error().message);
-    if (request->command != sim::ControlCommand::Impair) return sim::execute_control_request(setup_.segment, *request);
+    if (request->command != sim::ControlCommand::Impair) {
+        auto response = sim::execute_control_request(setup_.segment, *request);
+        sync_carriers();
+        return response;
+    }
     const auto side = request->red_side ? sim::Side::Red : sim::Side::Main;
     const Impairment impairment{request->loss_percent, request->duplicate_percent,
                                 std::chrono::microseconds(request->delay_us)};
@@ -83,6 +87,32 @@ void SegmentRunner::sync_side_links() {
     for (const sim::Side side : {sim::Side::Main, sim::Side::Red}) {
         const link::Link* link = link_of(side);
         setup_.segment.set_side_link(side, link != nullptr && link->link_up());
+    }
+}
+
+void SegmentRunner::sync_carriers() {
+    if (!setup_.set_carrier) return;
+    for (const sim::Side side : {sim::Side::Main, sim::Side::Red}) {
+        const link::Link* link = link_of(side);
+        if (link == nullptr) continue;
+        bool& taken_down = carrier_taken_down_[static_cast<std::size_t>(side)];
+        const bool peer_alive = setup_.segment.side_peer_alive(side);
+        // Down when the PHY went away; up only what this runner took down.
+        if (peer_alive != taken_down) continue;
+        auto changed = setup_.set_carrier(side, peer_alive);
+        if (!changed) {
+            runner_log().warn("{}: cannot take the carrier {}: {}", link->name(), peer_alive ? "up" : "down",
+                              changed.error());
+            continue;
+        }
+        taken_down = !peer_alive && *changed;
+        if (!*changed) continue;
+        if (peer_alive) {
+            runner_log().info("{}: the {} side's PHY is back: carrier up", link->name(), sim::to_string(side));
+        } else {
+            runner_log().info("{}: the {} side faces no PHY (slave unpowered or cable cut): carrier down", link->name(),
+                              sim::to_string(side));
+        }
     }
 }
 
@@ -233,6 +263,7 @@ int SegmentRunner::run() {
 
 int SegmentRunner::serve() {
     sync_side_links();
+    sync_carriers();
     runner_log().info("ecsim ready: {} slaves, MAIN on {}, RED on {}, control socket {}{}",
                       setup_.segment.slave_count(), setup_.main_link->name(),
                       setup_.red_link ? setup_.red_link->name() : std::string("(none)"), control_->path().string(),

@@ -10,6 +10,12 @@
 //     readable fd, e.g. an eventfd, in tests).
 //   - a timeout: the earliest SM watchdog deadline of the ESCs (the slaves
 //     notice a master that fell silent without any frame arriving).
+// Each side's interface shows the carrier a master would see from a real
+// slave: when the PHY at the slave end of that cable is gone (the slave
+// facing the interface is powered off, or that cable is cut with `break`),
+// the runner takes its own end of the cable down (RunnerSetup::set_carrier;
+// a veth's carrier follows its peer's administrative state), and up again
+// when the PHY is back. It only ever raises what it took down itself.
 // With --pcap every frame in and out is recorded; the file is flushed at
 // most a second after a frame and at exit. `impair` requests on the control
 // socket impair either cable (CableImpairment): lost and duplicated frames,
@@ -23,6 +29,7 @@
 #include <deque>
 #include <span>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -48,6 +55,12 @@ struct RunnerSetup {
     std::optional<sim::PcapRecorder> pcap;
     std::filesystem::path control_path;
     int stop_fd = -1;  // readable: leave run(); not owned
+    // Sets the carrier of a side's interface as the master sees it (ecsim:
+    // its own end administratively down or up); true when it changed it
+    // (an interface already down is left to whoever took it down). Null:
+    // the interfaces are left alone, and frames sent towards a dead PHY
+    // just vanish.
+    std::function<Expected<bool, std::string>(sim::Side side, bool up)> set_carrier;
 };
 
 class SegmentRunner {
@@ -83,6 +96,8 @@ private:
     int poll_timeout_ms() const;
     void apply_link_changes(link::LinkStateSource& source);
     void sync_side_links();
+    // Each side's carrier after a fault: down while the PHY it faces is gone.
+    void sync_carriers();
 
     RunnerSetup setup_;
     std::unique_ptr<ControlServer> control_;
@@ -97,6 +112,7 @@ private:
     };
     std::deque<Delayed> delayed_;  // in due order (one delay per side, frames in arrival order)
     std::array<link::FrameBatch, 2> outgoing_;  // by sim::Side
+    std::array<bool, 2> carrier_taken_down_{false, false};  // by sim::Side: set_carrier(side, false) done
 };
 
 }  // namespace ecpair::ecsim

@@ -140,6 +140,15 @@ bool Segment::endpoint_alive(const Endpoint& end) const {
     return end.is_side() ? side_link_[static_cast<std::size_t>(end.side)] : escs_[end.slave].powered();
 }
 
+bool Segment::side_peer_alive(Side side) const {
+    const auto index = topology_.cable_at(Endpoint::of_side(side));
+    if (!index) return false;
+    const Cable& cable = topology_.cable(*index);
+    if (!cable.intact) return false;
+    const Endpoint peer = topology_.peer(*index, Endpoint::of_side(side));
+    return peer.is_side() || escs_[peer.slave].powered();
+}
+
 bool Segment::cable_has_link(std::size_t index) const {
     const Cable& cable = topology_.cable(index);
     return cable.intact && endpoint_alive(cable.upstream) && endpoint_alive(cable.downstream);

@@ -3,7 +3,8 @@
 // input image: fills each datagram's written data from the output image,
 // copies each datagram's read data into the input image, and checks every
 // working counter the ENI gives (<Cnt>) -- as corrected for the slaves on
-// the bus now (Hot-Connect: an absent group does not answer). Nothing is
+// the bus now (Hot-Connect: an absent group does not answer), and only from
+// the state the datagram can be right in (PlannedDatagram::valid_from). Nothing is
 // allocated per cycle: the per-state datagram lists are computed at
 // construction.
 //

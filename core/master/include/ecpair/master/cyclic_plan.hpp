@@ -13,7 +13,16 @@
 // With cable redundancy LRW cannot be used (the unprocessed copy would be
 // ORed into the inputs): the plan refuses LRW, or with split_lrw replaces
 // every LRW by an LWR and an LRD over the same logical range, with expected
-// WKCs counted from the slaves' FMMU directions in the ENI.
+// WKCs counted from the slaves' FMMU directions in the ENI. Those must add
+// up to the LRW's <Cnt> (writers * 2 + readers): where they do not (FMMU
+// records that do not map the range), the plan is refused rather than run
+// with an expected WKC the ENI does not give (0 for unmapped process data
+// would hide that nothing is exchanged).
+//
+// A datagram's WKC is checked only from the state in which it can be right
+// (valid_from): process data runs from SAFEOP, whatever states an ENI lists
+// its commands in (Panasonic lists them in PREOP too); a logical range of
+// registers (the mailbox-state FMMUs) from the state its FMMUs are set in.
 
 #include <cstdint>
 #include <optional>
@@ -39,6 +48,7 @@ struct PlannedDatagram {
     std::string comment;
     int source_line = 0;
     bool split_from_lrw = false;
+    eni::SlaveState valid_from = eni::SlaveState::Preop;  // its WKC is checked in this state and above
 };
 
 struct PlannedFrame {
@@ -72,5 +82,10 @@ struct FmmuDirections {
     std::uint16_t writers = 0;
 };
 FmmuDirections fmmu_directions(const eni::EniConfig& eni, std::uint32_t address, std::size_t length);
+
+// The lowest state in which a logical datagram over [address, address +
+// length) can get its WKC: SAFEOP when an FMMU maps it to process RAM (or
+// none maps it), else the state the FMMUs mapping it are written on the way to.
+eni::SlaveState logical_range_valid_from(const eni::EniConfig& eni, std::uint32_t address, std::size_t length);
 
 }  // namespace ecpair::master

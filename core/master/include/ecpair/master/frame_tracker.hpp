@@ -14,7 +14,8 @@
 // must be the one that was sent. Anything else is stale, never someone
 // else's answer.
 //
-// Owned by the cycle thread: no locking. Slot buffers are allocated once.
+// Owned by the cycle thread: no locking. Slot buffers are allocated once;
+// a slot keeps the frame as sent beside its returned copies.
 
 #include <array>
 #include <cstdint>
@@ -58,6 +59,11 @@ public:
     AcceptOutcome accept(LinkRole arrived_on, ConstBytes frame);
 
     const SentFrame& sent(std::uint8_t id) const { return slots_[id].sent; }
+    // The frame as it was sent (before any slave processed it): what a merge
+    // compares the copies with.
+    ConstBytes sent_bytes(std::uint8_t id) const {
+        return ConstBytes(slots_[id].sent_bytes.data(), slots_[id].sent_size);
+    }
     ReturnedCopy copy(std::uint8_t id, LinkRole sent_on) const;
 
     // The source MAC for the copy of frame `id` sent on `role`.
@@ -68,6 +74,8 @@ private:
         SentFrame sent;
         std::uint8_t generation = 0;
         std::uint64_t signature = 0;  // of the frame as sent
+        std::array<std::uint8_t, wire::kMaxFrameSizeVlan> sent_bytes{};
+        std::size_t sent_size = 0;
         std::array<std::array<std::uint8_t, wire::kMaxFrameSizeVlan>, 2> copies{};
         std::array<std::size_t, 2> sizes{};
         std::array<LinkRole, 2> arrived_on{};

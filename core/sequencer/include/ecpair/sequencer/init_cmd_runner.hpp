@@ -11,7 +11,7 @@
 //     (read & DataMask) == (Data & DataMask) or the Validate timeout passes,
 //     one read per poll interval;
 //   - the DC start time: an APWR/FPWR of zeros to 0x0990 carries the computed
-//     start time instead (dc_start_time.hpp).
+//     start time instead (dc/start_time.hpp).
 // A failure is an InitCmdError naming the owner, the ENI line and comment,
 // the reason, and the slave's AL status and code when the command touches
 // AL control or AL status.
@@ -26,17 +26,10 @@
 #include "ecpair/common/expected.hpp"
 #include "ecpair/eni/model.hpp"
 #include "ecpair/sequencer/clock.hpp"
-#include "ecpair/sequencer/dc_start_time.hpp"
+#include "ecpair/dc/start_time.hpp"
 #include "ecpair/wire/al_status.hpp"
 
 namespace ecpair::sequencer {
-
-// How the zero start time of one slave is replaced.
-struct DcStartTimeParameters {
-    bus::SlaveAddress reference_clock;  // whose system time (0x0910) is read
-    std::uint32_t cycle_time_ns = 0;    // the slave's CycleTime0 (0: no rounding)
-    std::int32_t shift_time_ns = 0;     // the slave's ShiftTime
-};
 
 // Who a command belongs to: addressing adjustments and the words for errors.
 struct CommandContext {
@@ -46,7 +39,7 @@ struct CommandContext {
     // Absent optional slaves ahead of this one in ring order: its APxx
     // commands go that many positions nearer than the ENI wrote.
     std::uint16_t position_shift = 0;
-    std::optional<DcStartTimeParameters> dc;
+    std::optional<dc::StartTimeParameters> dc;
 
     // "master", or "slave 'EL1008' (station 1001)".
     std::string describe() const;
@@ -81,7 +74,7 @@ struct InitCmdError {
 
 struct InitCmdOptions {
     std::chrono::milliseconds default_timeout{100};  // per attempt, when the InitCmd has no Timeout
-    std::chrono::nanoseconds start_time_margin = kDcStartMargin;
+    std::chrono::nanoseconds start_time_margin = dc::kStartMargin;
 };
 
 class InitCmdRunner {

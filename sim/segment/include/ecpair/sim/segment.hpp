@@ -164,6 +164,12 @@ public:
     const Esc& slave(std::size_t position) const { return escs_[position - 1]; }
     bool is_unknown(std::size_t position) const { return origins_[position - 1].added; }
     bool side_link(Side side) const { return side_link_[static_cast<std::size_t>(side)]; }
+    // Whether the PHY at the far end of a side's cable is there: the cable is
+    // intact and the slave port it leads to belongs to a powered slave (a
+    // side cabled straight to the other side: the cable alone). A real
+    // master's interface has carrier only then; ecsim shows it by taking its
+    // own end of that cable down (segment_runner.hpp).
+    bool side_peer_alive(Side side) const;
     // Whether the cable after slave k exists and is intact.
     bool link_after_intact(std::size_t k) const;
     const Topology& topology() const { return topology_; }
