@@ -55,6 +55,14 @@ TEST_CASE("ecsim refuses bad command lines with exit status 2", "[ecsim][cli]") 
     CHECK(bad_name.status == 2);
     CHECK_THAT(bad_name.output, Catch::StartsWith("ecsim: --main-if: 'a/b' is not an interface name"));
 
+    const auto drift = run_ecsim({"--eni", "x.xml", "--main-if", "eth0", "--dc-drift-ppm", "5000"});
+    CHECK(drift.status == 2);
+    CHECK_THAT(drift.output, Catch::StartsWith("ecsim: --dc-drift-ppm: must be 0..1000 (got 5000"));
+
+    const auto delay = run_ecsim({"--eni", "x.xml", "--main-if", "eth0", "--dc-cable-delay-ns", "200000"});
+    CHECK(delay.status == 2);
+    CHECK_THAT(delay.output, Catch::StartsWith("ecsim: --dc-cable-delay-ns: must be 0..100000 ns (got 200000)"));
+
     const auto ctl_without_socket = run_ecsim({"ctl", "status"});
     CHECK(ctl_without_socket.status == 2);
     CHECK_THAT(ctl_without_socket.output, Catch::StartsWith("ecsim: ctl needs --control PATH"));

@@ -3,9 +3,10 @@
 // ESCs they do not address without calling them), one where every ESC on the
 // path processes every frame. Both must give the same frames, the same exits
 // and counters and, at the end, the same register files and process RAM in
-// every ESC, through a master's start-up to OP, cyclic frames from both
-// sides, line breaks, power cycles, an expired watchdog and loop settings
-// written in the middle of a frame's route.
+// every ESC and the same clocks and SYNC0 pulses, through a master's start-up
+// to OP, cyclic frames from both sides, line breaks, power cycles, an expired
+// watchdog, loop settings written in the middle of a frame's route, and
+// distributed clocks (latches from both ends, drift compensation, offsets).
 
 #include <catch2/catch.hpp>
 
@@ -35,17 +36,10 @@ using ecpair::test::DatagramSpec;
 using ecpair::test::TestFrame;
 using sim::Side;
 
-// DC's system time copy (0x0910, 8 bytes) is taken when a frame reaches an
-// EPU; the fast pass does not call ESCs a frame does not address, and only a
-// frame that addresses an ESC can read the copy, so it is left out.
 sim::SegmentOptions without_fast_pass() {
     sim::SegmentOptions options;
     options.fast_pass = false;
     return options;
-}
-
-bool compared(std::size_t address) {
-    return address < wire::reg::kDcSystemTime || address >= wire::reg::kDcSystemTime + 8;
 }
 
 struct TwinSegments {
@@ -85,7 +79,7 @@ struct TwinSegments {
             const auto a = fast.slave(position).read_memory(0, 0x10000);
             const auto b = reference.slave(position).read_memory(0, 0x10000);
             for (std::size_t address = 0; address < a.size(); ++address) {
-                if (compared(address) && a[address] != b[address]) {
+                if (a[address] != b[address]) {
                     note(fmt::format("slave {} byte {:#06x}: {:#04x} with the fast pass, {:#04x} without", position,
                                      address, a[address], b[address]));
                     break;
@@ -102,6 +96,21 @@ struct TwinSegments {
         CHECK(a.lost_no_link == b.lost_no_link);
         CHECK(a.lost_closed_port == b.lost_closed_port);
         CHECK(b.epus_passed == 0);
+        // The clocks: system times, SYNC0 pulses and the report's figures.
+        const sim::DcReport ra = fast.dc_report();
+        const sim::DcReport rb = reference.dc_report();
+        CHECK(ra.reference == rb.reference);
+        CHECK(ra.worst_deviation_ns == rb.worst_deviation_ns);
+        CHECK(ra.sync0_missed == rb.sync0_missed);
+        for (std::size_t i = 0; i < ra.slaves.size(); ++i) {
+            const sim::DcTruth& x = ra.slaves[i].truth;
+            const sim::DcTruth& y = rb.slaves[i].truth;
+            const bool same_pulse = x.last_sync0.has_value() == y.last_sync0.has_value() &&
+                                    (!x.last_sync0 || x.last_sync0->at_ns == y.last_sync0->at_ns);
+            if (x.system_time_ns != y.system_time_ns || x.sync0_running != y.sync0_running || !same_pulse) {
+                note(fmt::format("slave {}: DC clock or SYNC0 differ", i + 1));
+            }
+        }
     }
 
     void note(std::string difference) {
@@ -136,10 +145,13 @@ private:
     std::mutex mutex_;
 };
 
+// Generated slaves with a <DC> element each, so that every ESC has a clock.
 std::shared_ptr<const eni::EniConfig> generated_eni(std::uint32_t slaves) {
     sim::GeneratedEniOptions options;
     options.slaves = slaves;
-    return eni::load_eni_string(sim::generate_eni(options), "generated.xml").value();
+    auto config = std::make_shared<eni::EniConfig>(*eni::load_eni_string(sim::generate_eni(options), "generated.xml").value());
+    for (auto& slave : config->slaves) slave.dc = eni::DistributedClocks{};
+    return config;
 }
 
 void bring_to_op(const std::shared_ptr<const eni::EniConfig>& eni, TwinSegments& twins) {
@@ -230,6 +242,46 @@ TEST_CASE("the fast pass gives the frames and ESCs every ESC processing every fr
         TestFrame latch = test::ethercat_frame({DatagramSpec{wire::Command::Bwr, latch_all, {0, 0, 0, 0}}});
         CHECK(twins.carry(Side::Main, latch) == Side::Main);
         twins.apply([](sim::Segment& s) { s.set_side_link(Side::Red, true); });
+        cycles(5, 70);
+    }
+    SECTION("distributed clocks: latches from both ends of a broken ring, drift compensation, offsets, SYNC0") {
+        using wire::Command;
+        using wire::DatagramHeader;
+        namespace reg = wire::reg;
+        const auto broadcast = [&](Side entry, std::uint16_t ado, std::vector<std::uint8_t> data) {
+            TestFrame frame = test::ethercat_frame({DatagramSpec{Command::Bwr, DatagramHeader::physical(0, ado), data}});
+            twins.carry(entry, frame, 20'000);
+        };
+        const auto armw = [&](Side entry) {
+            TestFrame frame = test::ethercat_frame(
+                {DatagramSpec{Command::Nop, DatagramHeader::physical(0, reg::kDcReceiveTimes), {0, 0, 0, 0}},
+                 DatagramSpec{Command::Armw, DatagramHeader::physical(0, reg::kDcSystemTime), {0, 0, 0, 0}}});
+            twins.carry(entry, frame, 20'000);
+        };
+        twins.apply([](sim::Segment& s) { REQUIRE(s.break_link_after(17)); });
+        broadcast(Side::Main, reg::kDcReceiveTimes, {0, 0, 0, 0});
+        broadcast(Side::Red, reg::kDcReceiveTimes, {0, 0, 0, 0});
+        for (const std::uint16_t station : {std::uint16_t{1005}, std::uint16_t{1030}}) {
+            TestFrame offset = test::ethercat_frame({DatagramSpec{
+                Command::Fpwr, DatagramHeader::physical(station, reg::kDcSystemTimeOffset), {0, 0, 0, 0, 1, 0, 0, 0}}});
+            twins.carry(Side::Main, offset);
+        }
+        broadcast(Side::Main, reg::kDcSpeedCounterStart, {0x00, 0x10});
+        broadcast(Side::Red, reg::kDcSpeedCounterStart, {0x00, 0x10});
+        for (int i = 0; i < 200; ++i) {
+            armw(Side::Main);
+            armw(Side::Red);
+        }
+        broadcast(Side::Main, reg::kDcCycleTime0, {0x40, 0x42, 0x0F, 0x00});  // 1 ms
+        broadcast(Side::Main, reg::kDcStartTime, {0, 0, 0, 0x80, 0, 0, 0, 0});
+        broadcast(Side::Main, reg::kDcActivation, {0x23});  // at once, whatever the clock says
+        for (int c = 0; c < 10; ++c) {
+            run_cycle(twins, exchange, static_cast<std::uint8_t>(c), Side::Main);
+            run_cycle(twins, exchange, static_cast<std::uint8_t>(c), Side::Red);
+            armw(Side::Main);
+            armw(Side::Red);
+        }
+        twins.apply([](sim::Segment& s) { REQUIRE(s.repair_link_after(17)); });
         cycles(5, 70);
     }
     SECTION("auto-increment datagrams among logical ones reach the slave their position names") {

@@ -206,9 +206,10 @@ TEST_CASE("a frame passing a closed port 0 gets the circulating bit, at the seco
     }
 }
 
-TEST_CASE("each hop adds the hop delay to the DC receive times", "[segment][dc]") {
+TEST_CASE("each ESC and cable on the way add their delays to the DC receive times", "[segment][dc]") {
     SegmentOptions options;
-    options.hop_delay_ns = 250;
+    options.propagation = {0, 250, 250};
+    options.clocks.seed = 0;  // exact clocks: the latches show the simulation time
     auto segment = Segment::from_specs(line_specs(4), options);
     REQUIRE(segment);
     // A write to 0x0900 latches every slave's port receive times.

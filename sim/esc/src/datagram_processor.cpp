@@ -18,6 +18,12 @@ std::uint32_t with_adp(std::uint32_t address, std::uint16_t adp) {
     return (address & 0xFFFF0000U) | adp;
 }
 
+// Whether the datagram's data covers register `address`.
+bool covers(const wire::DatagramView& datagram, std::uint16_t address) {
+    const std::uint32_t ado = datagram.address() >> 16;
+    return ado <= address && address < ado + datagram.data().size();
+}
+
 }  // namespace
 
 DatagramProcessor::DatagramProcessor(EscMemory& memory, PhysicalAccess& physical, FmmuUnit& fmmus)
@@ -42,6 +48,9 @@ bool DatagramProcessor::process(const wire::DatagramView& datagram) {
                                       : kAccess[static_cast<std::size_t>(command) - static_cast<std::size_t>(Command::Aprd)];
             addressed = command == Command::Armw || adp == 0;
             wkc_increment = physical_access(datagram, access, adp == 0);
+            if (command == Command::Armw && adp == 0 && wkc_increment != 0 && covers(datagram, reg::kDcSystemTime)) {
+                dc_access_.reference_read = true;
+            }
             datagram.set_address(with_adp(address, incremented));
             break;
         }
@@ -53,15 +62,25 @@ bool DatagramProcessor::process(const wire::DatagramView& datagram) {
             const Access access = kAccess[command - static_cast<std::size_t>(Command::Fprd)];
             addressed = configured_address_matches(adp);
             wkc_increment = physical_access(datagram, access, addressed);
+            if (datagram.command() == Command::Fpwr && addressed && wkc_increment != 0 &&
+                covers(datagram, reg::kDcReceiveTimes)) {
+                dc_access_.port_latch = true;
+            }
             break;
         }
-        case Command::Frmw: wkc_increment = physical_access(datagram, Access::ReadOrWrite, configured_address_matches(adp)); break;
+        case Command::Frmw: {
+            const bool reference = configured_address_matches(adp);
+            wkc_increment = physical_access(datagram, Access::ReadOrWrite, reference);
+            if (reference && wkc_increment != 0 && covers(datagram, reg::kDcSystemTime)) dc_access_.reference_read = true;
+            break;
+        }
         case Command::Brd:
             wkc_increment = physical_access(datagram, Access::BroadcastRead, true);
             datagram.set_address(with_adp(address, incremented));
             break;
         case Command::Bwr:
             wkc_increment = physical_access(datagram, Access::Write, true);
+            if (wkc_increment != 0 && covers(datagram, reg::kDcReceiveTimes)) dc_access_.port_latch = true;
             datagram.set_address(with_adp(address, incremented));
             break;
         case Command::Brw:

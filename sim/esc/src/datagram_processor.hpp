@@ -20,10 +20,15 @@
 // station address or alias, every slave for BRD/BWR/BRW/ARMW/FRMW) or, for
 // Lxx, when an active FMMU maps one of its logical bytes; one that does not
 // leaves the ESC as it was.
+//
+// What the DC unit needs to know of the datagrams (DcFrameAccess) is noted
+// on the way: a BWR/FPWR to 0x0900 (the ports' receive times latch only for
+// those), an ARMW/FRMW that read 0x0910 here (this ESC is the reference).
 
 #include <array>
 #include <cstdint>
 
+#include "dc_registers.hpp"
 #include "ecpair/wire/datagram.hpp"
 #include "esc_memory.hpp"
 #include "fmmu.hpp"
@@ -37,6 +42,12 @@ public:
 
     // True when the datagram addressed this ESC (see above).
     bool process(const wire::DatagramView& datagram);
+    // What the frame's datagrams did to the DC unit; cleared for the next frame.
+    DcFrameAccess take_dc_access() {
+        const DcFrameAccess access = dc_access_;
+        dc_access_ = {};
+        return access;
+    }
 
 private:
     enum class Access : std::uint8_t { Read, BroadcastRead, Write, ReadWrite, BroadcastReadWrite, ReadOrWrite };
@@ -48,6 +59,7 @@ private:
     EscMemory& memory_;
     PhysicalAccess& physical_;
     FmmuUnit& fmmus_;
+    DcFrameAccess dc_access_;
     // The data of a read-write datagram as it arrived (the write half uses it).
     std::array<std::uint8_t, 2048> arrived_{};
 };

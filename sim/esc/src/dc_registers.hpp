@@ -1,43 +1,95 @@
 #pragma once
-// Distributed clocks registers (datasheet II §2.15, esc-facts.md §2).
+// The distributed clocks unit of one ESC (datasheet I §9, II §2.15,
+// dc-and-diagnosis-facts.md): its local clock, the registers a master reads
+// and writes, and what ecsim reports as the truth about it.
 //
-// The local clock of the emulated ESC is the simulation time in ns. Then:
-//  - 0x0910 (64 bit) reads as local time + system time offset (0x0920),
-//    taken when the frame starts through the processing unit;
-//  - a master write to 0x0910 (ARMW/FRMW distributing the reference time, or
-//    a plain write) is compared, not stored: the difference between the
-//    local copy and the written time plus the system time delay (0x0928) is
-//    put into 0x092C (bit 31 set when the local copy is behind, bits 30:0 the
-//    magnitude). A 4-byte write compares the low 32 bits only;
-//  - a write to 0x0900 latches the receive time of that frame at every port:
-//    port 0 (0x0900) and the processing unit (0x0918, 64 bit) at once, the
-//    other ports (0x0904 + 4(n-1)) when the frame passes them, as the segment
-//    reports through port_arrival(). Ports the frame passed before reaching
-//    the processing unit (port 0 closed) are latched from their last arrival;
-//  - activation (0x0980/0x0981), start time (0x0990) and cycle times (0x09A0)
-//    are plain registers.
+//  - local clock: its own oscillator (drift in ppb, set by the segment) and
+//    a local time that starts at power-on wherever the segment says
+//    (dc_clock.hpp); the time control loop changes its rate
+//    (dc_time_loop.hpp);
+//  - 0x0900-0x090F receive time port 0-3: a frame that writes 0x0900 with
+//    BWR or FPWR latches, for itself, the local time at which it arrived at
+//    each port it passed, before or after the processing unit (the segment
+//    reports every arrival); 0x0918 (64 bit) the local time at which it
+//    reached the processing unit, for any write to 0x0900. A write that does
+//    not latch (APWR, say) leaves them alone; the values are there for the
+//    next frame;
+//  - 0x0910 read: the local copy of the system time when the frame passed the
+//    reference clock: local time at the frame's start + offset (0x0920) -
+//    system time delay (0x0928); write: the received time for the loop,
+//    compared at the end of the frame, never stored;
+//  - 0x0920 offset and 0x0928 delay are taken at the end of the frame that
+//    writes them: the system time jumps, the local time does not;
+//  - the cyclic unit (dc_sync_unit.hpp).
+//
+// DC support as the ESC's description says: none (2-port slaves need not
+// have DC: every DC register then reads 0 and ignores writes, which still
+// count for the working counter), 32-bit (the system time, offset, start
+// time and next SYNC1 are 32 bits wide; receive time 0x0918 stays 64) or
+// 64-bit.
 
 #include <array>
 #include <cstdint>
+#include <optional>
 
+#include "dc_clock.hpp"
+#include "dc_sync_unit.hpp"
+#include "dc_time_loop.hpp"
 #include "ecpair/sim/esc.hpp"
 #include "esc_memory.hpp"
+#include "physical_access.hpp"
 
 namespace ecpair::sim {
 
-class DcUnit {
-public:
-    explicit DcUnit(EscMemory& memory);
+// What the datagrams of one frame did to this ESC's DC unit (DatagramProcessor).
+struct DcFrameAccess {
+    bool port_latch = false;      // a BWR or FPWR wrote 0x0900: the ports' receive times latch
+    bool reference_read = false;  // an ARMW/FRMW read 0x0910 here: the master uses this ESC as reference clock
+};
 
-    void reset();
-    // The frame enters the processing unit: the system time copy for reads.
-    void start_of_frame(std::uint64_t time_ns);
+class DcUnit final : public ComputedRegisters {
+public:
+    DcUnit(EscMemory& memory, DcSupport support);
+
+    DcSupport support() const { return support_; }
+    bool has_system_time() const { return support_ != DcSupport::None; }
+
+    // The oscillator; the local time starts again as at the last power-on.
+    void set_oscillator(const Oscillator& oscillator);
+    // Power-on at common time `now_ns`: the local time starts where the
+    // oscillator says, registers and loop are reset. The truth counters survive.
+    void power_on(std::uint64_t now_ns);
+
+    // ---- the frame path
+    // Before the frame's writes are committed: drops those the unit ignores.
+    void filter_staged() const;
+    // The frame reached the processing unit at common time `t`.
+    void start_of_frame(std::uint64_t t) { frame_start_ = t; }
+    void before_read(std::uint32_t begin, std::uint32_t end) override;
     // A frame reached `port` from outside.
     void port_arrival(int port, std::uint64_t time_ns, std::uint64_t frame_seq);
-    // End of a frame that wrote 0x0900: latch its receive times.
-    void latch_receive_times(std::uint64_t frame_seq, std::uint64_t epu_time_ns);
-    // End of a frame that wrote 0x0910: feed the comparison.
-    void system_time_written(std::uint64_t time_ns);
+    // After the frame's writes were committed.
+    void end_of_frame(std::uint64_t frame_seq, const DcFrameAccess& access);
+
+    // ---- the truth (ecsim's dc report)
+    // The local copy of the system time at common time `t`, unwrapped (a
+    // 32-bit DC's register shows the low half).
+    std::uint64_t system_time_at(std::uint64_t t) const { return base().at(t); }
+    std::uint64_t local_time_at(std::uint64_t t) const { return clock_.local_at(t); }
+    std::int64_t drift_ppb() const { return oscillator_spec_.drift_ppb; }
+    // The pulses up to `t` (no register changes).
+    void advance_sync(std::uint64_t t) { sync_.advance(t, base()); }
+    const SyncUnit& sync() const { return sync_; }
+    void reset_sync_counters() { sync_.reset_counters(); }
+    // Every change that moves this ESC's system time against the others'
+    // (rate, jump, SYNC0 started or stopped) is a step; last_step() is the
+    // latest. Reference reads: ARMW/FRMW reads of 0x0910 here.
+    DcCounters counters() const {
+        DcCounters counters = counters_;
+        counters.sync0_running = sync_.sync0_running();
+        return counters;
+    }
+    const DcClockStep& last_step() const { return last_step_; }
 
 private:
     struct Arrival {
@@ -46,12 +98,34 @@ private:
         bool valid = false;
     };
 
+    SystemTimeBase base() const { return SystemTimeBase{&clock_, offset_}; }
     void latch_port(int port, std::uint64_t time_ns);
+    void latch_receive_times(std::uint64_t frame_seq, bool ports);
+    // 0x0910 was written: the received time feeds the loop.
+    void compare_received_time();
+    void apply_offset();
+    // The local time at the power-on numbered `power_on` (0: the first).
+    std::uint64_t start_local_time(std::uint64_t power_on) const;
+    void step(std::uint64_t before, bool sync0_before);
 
     EscMemory& memory_;
+    DcSupport support_;
+    LocalClock clock_;
+    TimeLoop loop_;
+    SyncUnit sync_;
+    Oscillator oscillator_spec_;
+    ClockRate oscillator_ = kNominalRate;
+    std::uint64_t power_on_at_ = 0;
+    std::uint64_t power_ons_ = 0;
+    std::uint64_t offset_ = 0;  // applied 0x0920, unwrapped
+    std::uint32_t delay_ = 0;   // applied 0x0928
+    std::uint64_t frame_start_ = 0;
     std::array<Arrival, kMaxPorts> arrivals_{};
     std::uint64_t latch_seq_ = 0;
-    bool latch_pending_ = false;
+    bool latch_pending_ = false;  // ports after the processing unit still latch for latch_seq_
+
+    DcCounters counters_;
+    DcClockStep last_step_;
 };
 
 }  // namespace ecpair::sim

@@ -4,12 +4,12 @@
 //  process():  powered off -> the frame dies. Port 0 closed under Auto or
 //              Auto-close -> circulating-frame rule (C=1 on the first
 //              datagram: destroy and count 0x030C; else set C on every
-//              datagram). The system time copy is taken, every datagram goes
-//              through the DatagramProcessor, and with the forwarding rule on
-//              the source MAC gets its locally administered bit.
+//              datagram). The DC unit notes the frame's time, every datagram
+//              goes through the DatagramProcessor, and with the forwarding
+//              rule on the source MAC gets its locally administered bit.
 //  end of frame: staged register writes are committed and their owners react
 //              (DL control -> ports, error counters, SII commands, FMMU and
-//              SyncManager configuration, DC latch/compare).
+//              SyncManager configuration, DC latches, loop, offset, cyclic unit).
 //  PDI side:   when the SII configuration is loaded, the slave stack runs the
 //              AL state machine (SyncManager changes first, then AL control),
 //              enables/deactivates SyncManagers for the new state, serves the
@@ -19,7 +19,8 @@
 //              event when it changed).
 //  time:       a frame's time (and advance_time()) expires the process data
 //              watchdog: outputs cleared; a stack in OP falls to SAFEOP+ERR
-//              0x001B.
+//              0x001B. The DC clocks need no time of their own: they are
+//              computed at the common time asked (dc_registers.hpp).
 
 #include "ecpair/sim/esc.hpp"
 
@@ -87,7 +88,7 @@ struct Esc::Impl {
           datagrams(memory, physical, fmmus),
           eeprom(build_sii_image(description, layout)),
           ports(layout.port_count, log, owner),
-          dc(memory),
+          dc(memory, description.dc),
           watchdog(memory),
           al(memory, log, owner),
           checks(layout, sync_managers, memory),
@@ -95,6 +96,7 @@ struct Esc::Impl {
           application(memory, sync_managers, layout),
           coe_context(memory, al, layout, log, owner),
           legacy(log, owner) {
+        physical.set_computed_registers(&dc);
         checks.set_id_selector(description.id_selector);
         checks.set_legacy(&legacy);
         legacy.set(description.legacy_id_selector);
@@ -102,7 +104,7 @@ struct Esc::Impl {
             application.show_word(description.input_word_id->address, description.input_word_id->value);
         }
         install_mailbox_server();
-        power_on();
+        power_on(0);
     }
 
     // The layout points into `description`, so neither may move: Impl lives
@@ -125,7 +127,7 @@ struct Esc::Impl {
     void advance_time(std::uint64_t now_ns);
     void on_watchdog_expired();
     void update_dl_status();
-    void power_on();
+    void power_on(std::uint64_t now_ns);
     std::optional<int> entry_port(std::uint64_t frame_seq) const;
     // Asked for every frame at every slave: the bit alone, not the whole register decoded (DlControl::decode).
     bool forwarding_rule() const { return (memory.u8(reg::kDlControl) & 0x01U) != 0; }
@@ -164,6 +166,7 @@ struct Esc::Impl {
     std::array<std::optional<std::uint64_t>, kMaxPorts> arrival_seq{};
     std::optional<std::uint64_t> temporary_loop_until_ns;
     std::uint8_t permanent_loop_byte = 0;
+    EscDelays delays;  // the segment's to use
 };
 
 EpuVerdict Esc::Impl::process(wire::FrameView& frame, const FrameContext& context) {
@@ -193,8 +196,10 @@ EpuVerdict Esc::Impl::process(wire::FrameView& frame, const FrameContext& contex
 void Esc::Impl::end_of_frame(const FrameContext& context, bool addressed) {
     bool al_control_written = false;
     std::uint8_t activation_changed = 0;
+    const DcFrameAccess dc_access = datagrams.take_dc_access();
     if (memory.has_staged()) {
         eeprom.filter_staged(memory);
+        dc.filter_staged();
         const std::uint8_t loop_before = memory.u8(reg::kDlControlLoop);
         memory.commit_staged();
         if (memory.staged_any(reg::kDlControl, reg::kDlControl + 4)) on_dl_control_written(context, loop_before);
@@ -205,12 +210,11 @@ void Esc::Impl::end_of_frame(const FrameContext& context, bool addressed) {
         }
         if (memory.staged_any(reg::kFmmuBase, reg::kSmBase)) fmmus.refresh(memory);
         if (memory.staged_any(reg::kSmBase, reg::kDcReceiveTimes)) activation_changed = sync_managers.refresh();
-        if (memory.staged_any(reg::kDcReceiveTimes, reg::kDcReceiveTimes + 4)) {
-            dc.latch_receive_times(context.frame_seq, context.time_ns);
-        }
-        if (memory.staged_any(reg::kDcSystemTime, reg::kDcReceiveTimeEcu)) dc.system_time_written(context.time_ns);
+        dc.end_of_frame(context.frame_seq, dc_access);
         if (memory.staged_any(regs::kWatchdogTimeProcessData, regs::kWatchdogTimeProcessData + 2)) watchdog.reset();
         memory.clear_staged();
+    } else if (dc_access.reference_read) {
+        dc.end_of_frame(context.frame_seq, dc_access);
     }
     if (sync_managers.take_watchdog_trigger()) watchdog.trigger(context.time_ns);
     run_slave_stack(al_control_written, activation_changed != 0, addressed);
@@ -343,18 +347,19 @@ void Esc::Impl::update_dl_status() {
     memory.store<std::uint16_t>(reg::kEcatEventRequest, static_cast<std::uint16_t>(request | regs::kEventDlStatus));
 }
 
-void Esc::Impl::power_on() {
+void Esc::Impl::power_on(std::uint64_t now_ns) {
     powered = true;
     memory.clear();
     dl_status_from.reset();  // the register is back at its reset value
     regs::write_reset_values(memory.bytes(),
-                             regs::EscHardware{static_cast<std::uint8_t>(layout.ram_bytes / 1024), layout.port_descriptor()});
+                             regs::EscHardware{static_cast<std::uint8_t>(layout.ram_bytes / 1024), layout.port_descriptor(),
+                                               description.dc != DcSupport::None, description.dc == DcSupport::Dc64});
     memory.set_ram_bytes(layout.ram_bytes);
     sync_managers.reset();
     fmmus.reset();
-    dc.reset();
     watchdog.reset();
     const bool loaded = eeprom.power_on(memory);
+    dc.power_on(now_ns);
     if (loaded) legacy.on_power_on(memory, eeprom);
     physical.set_process_ram_available(loaded);
     ports.reset();
@@ -391,6 +396,7 @@ PassDigest Esc::pass_digest() const {
     const Impl& esc = *impl_;
     PassDigest digest;
     digest.powered = esc.powered;
+    digest.delays = esc.delays;
     if (!esc.powered) return digest;
     digest.passable = !esc.ports.circulating_frame_check() && !esc.ports.any_closed_wait() &&
                       !esc.temporary_loop_until_ns;
@@ -462,7 +468,37 @@ void Esc::power_off() {
     impl_->log->info("{}: power off", impl_->owner);
 }
 
-void Esc::power_on() { impl_->power_on(); }
+void Esc::power_on(std::uint64_t now_ns) { impl_->power_on(now_ns); }
+
+void Esc::set_oscillator(const Oscillator& oscillator) { impl_->dc.set_oscillator(oscillator); }
+
+std::uint64_t Esc::dc_system_time_at(std::uint64_t t) const { return impl_->dc.system_time_at(t); }
+
+DcTruth Esc::dc_truth(std::uint64_t now_ns) {
+    DcUnit& dc = impl_->dc;
+    DcTruth truth;
+    truth.support = dc.support();
+    truth.drift_ppb = dc.drift_ppb();
+    if (!impl_->powered || !dc.has_system_time()) return truth;
+    dc.advance_sync(now_ns);
+    truth.system_time_ns = dc.system_time_at(now_ns);
+    truth.local_time_ns = dc.local_time_at(now_ns);
+    const SyncUnit& sync = dc.sync();
+    truth.sync0_running = sync.sync0_running();
+    truth.sync0_cycle_ns = sync.cycle_ns();
+    truth.last_sync0 = sync.last_pulse();
+    truth.previous_sync0 = sync.previous_pulse();
+    truth.sync0_missed = sync.missed();
+    truth.sync0_doubled = sync.doubled();
+    return truth;
+}
+
+DcCounters Esc::dc_counters() const { return impl_->dc.counters(); }
+const DcClockStep& Esc::dc_last_step() const { return impl_->dc.last_step(); }
+void Esc::reset_dc_counters() { impl_->dc.reset_sync_counters(); }
+
+void Esc::set_propagation_delays(const EscDelays& delays) { impl_->delays = delays; }
+const EscDelays& Esc::propagation_delays() const { return impl_->delays; }
 
 void Esc::set_eeprom_alias(std::uint16_t alias) { impl_->eeprom.set_alias(alias); }
 

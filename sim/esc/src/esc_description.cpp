@@ -42,6 +42,15 @@ void collect_sm_writes(const eni::EcatCmd& cmd, std::vector<SmInitWrite>& out) {
 
 }  // namespace
 
+std::string_view to_string(DcSupport support) {
+    switch (support) {
+        case DcSupport::None: return "none";
+        case DcSupport::Dc32: return "32-bit";
+        case DcSupport::Dc64: return "64-bit";
+    }
+    return "?";
+}
+
 EscDescription EscDescription::from_eni(const eni::Slave& slave) {
     EscDescription description;
     description.name = slave.info.name;

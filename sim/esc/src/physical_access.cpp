@@ -84,6 +84,9 @@ bool PhysicalAccess::write(std::uint32_t address, ConstBytes in) {
 
 void PhysicalAccess::read_registers(std::uint32_t address, Bytes out, ReadMode mode) {
     const auto end = static_cast<std::uint32_t>(address + out.size());
+    if (computed_ != nullptr && overlaps(address, end, reg::kDcSystemTime, reg::kDcCycleTime0)) {
+        computed_->before_read(address, end);
+    }
     transfer_in(out, memory_.bytes().subspan(address, out.size()), mode);
     // Reading DL status / AL status acknowledges their ECAT events.
     std::uint16_t cleared = 0;

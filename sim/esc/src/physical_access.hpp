@@ -2,7 +2,8 @@
 // The ECAT view of an ESC's address space: what one datagram's read or write
 // of [address, address + n) does, byte range by byte range.
 //
-//  - registers (below 0x0F80): reads return the effective value; writes are
+//  - registers (below 0x0F80): reads return the effective value (the DC
+//    unit first computes what it shows at that moment); writes are
 //    staged in the shadow buffer until the frame ends. Reading DL status or
 //    AL status clears its ECAT event bit (0x0210 b2 / b3). Reserved
 //    registers read as 0 and ignore writes, but are accessible (they count
@@ -26,12 +27,24 @@ namespace ecpair::sim {
 // Reads either copy memory into the datagram or OR it in (BRD/BRW).
 enum class ReadMode : std::uint8_t { Copy, Or };
 
+// Registers whose value is computed when a frame reads them (the DC unit's
+// system time and next SYNC pulses): told before a read of the DC range.
+class ComputedRegisters {
+public:
+    virtual void before_read(std::uint32_t begin, std::uint32_t end) = 0;
+
+protected:
+    ~ComputedRegisters() = default;
+};
+
 class PhysicalAccess {
 public:
     PhysicalAccess(EscMemory& memory, SyncManagerUnit& sync_managers);
 
     // The process RAM answers only once the SII configuration is loaded.
     void set_process_ram_available(bool available) { process_ram_available_ = available; }
+    // Who computes the DC registers before they are read (null: nobody).
+    void set_computed_registers(ComputedRegisters* computed) { computed_ = computed; }
 
     bool read(std::uint32_t address, Bytes out, ReadMode mode);
     bool write(std::uint32_t address, ConstBytes in);
@@ -47,6 +60,7 @@ private:
     EscMemory& memory_;
     SyncManagerUnit& sync_managers_;
     bool process_ram_available_ = true;
+    ComputedRegisters* computed_ = nullptr;
 };
 
 }  // namespace ecpair::sim

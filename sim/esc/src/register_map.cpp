@@ -47,8 +47,10 @@ constexpr std::array kWritable = {
     Writable{reg::kSiiData, 8, 0xFF},
     Writable{reg::kDcSystemTimeOffset, 8, 0xFF},
     Writable{reg::kDcSystemTimeDelay, 4, 0xFF},
-    Writable{reg::kDcSpeedCounterStart, 2, 0xFF},
-    Writable{kDcSpeedCounterFilter, 2, 0xFF},
+    Writable{reg::kDcSpeedCounterStart, 1, 0xFF},
+    Writable{reg::kDcSpeedCounterStart + 1, 1, 0x7F},  // bit 15 reserved
+    Writable{kDcTimeDifferenceFilterDepth, 1, 0x0F},
+    Writable{kDcSpeedCounterFilterDepth, 1, 0x0F},
     Writable{reg::kDcCycleUnitControl, 1, 0x31},
     Writable{reg::kDcActivation, 1, 0xFF},
     Writable{reg::kDcStartTime, 8, 0xFF},
@@ -106,8 +108,11 @@ void write_reset_values(Bytes registers, const EscHardware& hardware) {
     // Features: bit-wise FMMUs (b0 = 0), DC (b2), 64-bit DC (b3), low-jitter
     // EBUS (b4), enhanced link detection EBUS/MII (b5, b6), separate FCS
     // error handling (b7), enhanced DC SYNC activation (b8); LRW and
-    // APRW/FPRW/BRW supported (b9, b10 = 0).
-    store_le<std::uint16_t>(registers, reg::kFeatures, 0x01FC);
+    // APRW/FPRW/BRW supported (b9, b10 = 0). An ESC without DC has neither
+    // DC bit nor the enhanced activation; a 32-bit DC lacks b3.
+    std::uint16_t features = 0x00F0;
+    if (hardware.dc) features = static_cast<std::uint16_t>(features | 0x0104U | (hardware.dc_64bit ? 0x0008U : 0U));
+    store_le<std::uint16_t>(registers, reg::kFeatures, features);
     registers[kDlControlFlags] = 0x01;  // forwarding rule: destroy non-EtherCAT frames
     registers[0x0102] = 0x07;           // RX FIFO size: default
     store_le<std::uint16_t>(registers, reg::kAlControl, 0x0001);
@@ -117,7 +122,8 @@ void write_reset_values(Bytes registers, const EscHardware& hardware) {
     store_le<std::uint16_t>(registers, kWatchdogTimePdi, 0x03E8);       // 100 ms
     store_le<std::uint16_t>(registers, kWatchdogTimeProcessData, 0x03E8);
     store_le<std::uint16_t>(registers, reg::kDcSpeedCounterStart, 0x1000);
-    store_le<std::uint16_t>(registers, kDcSpeedCounterFilter, 0x0C04);
+    registers[kDcTimeDifferenceFilterDepth] = 0x04;
+    registers[kDcSpeedCounterFilterDepth] = 0x0C;
 }
 
 }  // namespace ecpair::sim::regs

@@ -41,7 +41,13 @@ inline constexpr std::uint16_t kWatchdogTimeProcessData = 0x0420;
 inline constexpr std::uint16_t kWatchdogStatusProcessData = 0x0440;
 inline constexpr std::uint16_t kWatchdogCounterProcessData = 0x0442;
 inline constexpr std::uint16_t kWatchdogCounterPdi = 0x0443;
-inline constexpr std::uint16_t kDcSpeedCounterFilter = 0x0934;
+inline constexpr std::uint16_t kDcSpeedCounterDiff = 0x0932;
+inline constexpr std::uint16_t kDcTimeDifferenceFilterDepth = 0x0934;
+inline constexpr std::uint16_t kDcSpeedCounterFilterDepth = 0x0935;
+inline constexpr std::uint16_t kDcActivationStatus = 0x0984;
+inline constexpr std::uint16_t kDcSync0Status = 0x098E;
+inline constexpr std::uint16_t kDcSync1Status = 0x098F;
+inline constexpr std::uint16_t kDcNextSync1 = 0x0998;
 inline constexpr std::uint16_t kDcSyncPulseLength = 0x0982;
 
 inline constexpr int kFmmuCount = 8;
@@ -59,6 +65,8 @@ std::uint8_t ecat_write_mask(std::uint16_t address);
 struct EscHardware {
     std::uint8_t ram_kib = 8;
     std::uint8_t port_descriptor = 0x0F;
+    bool dc = true;        // distributed clocks (0x0008 b2, with enhanced SYNC activation b8)
+    bool dc_64bit = true;  // 64-bit system time (0x0008 b3)
 };
 
 // Power-on values of 0x0000-0x0FFF (the part not loaded from the SII).

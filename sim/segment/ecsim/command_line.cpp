@@ -23,6 +23,9 @@ namespace po = boost::program_options;
 
 namespace {
 
+constexpr std::uint32_t kMaxDriftPpm = 1'000;
+constexpr std::uint32_t kMaxDelayNs = 100'000;
+
 constexpr std::array<std::string_view, 7> kLogLevels{"trace", "debug", "info", "warn", "error", "critical", "off"};
 
 bool is_log_level(const std::string& level) {
@@ -55,7 +58,18 @@ po::options_description run_description() {
          "trace, debug, info, warn, error, critical or off")
         ("realtime-priority", po::value<int>()->default_value(0),
          "SCHED_FIFO priority of the event loop, 0 = normal scheduling (real ESCs add no latency; "
-         "on a loaded machine this keeps the simulated one small)");
+         "on a loaded machine this keeps the simulated one small)")
+        ("dc-drift-ppm", po::value<std::uint32_t>()->default_value(sim::ClockOptions{}.drift_ppm),
+         "each ESC's oscillator is off by up to this much, drawn from the seed (0..1000; ESC crystals are "
+         "+-25 ppm)")
+        ("dc-seed", po::value<std::uint64_t>()->default_value(sim::ClockOptions{}.seed),
+         "seed of the oscillators' drifts and power-on times (0: exact clocks that start together)")
+        ("dc-cable-delay-ns", po::value<std::uint32_t>()->default_value(sim::PropagationOptions{}.cable_ns),
+         "a cable from port to port, PHYs included")
+        ("dc-forwarding-delay-ns", po::value<std::uint32_t>()->default_value(sim::PropagationOptions{}.forwarding_ns),
+         "through an ESC alongside its processing unit")
+        ("dc-processing-delay-ns", po::value<std::uint32_t>()->default_value(sim::PropagationOptions{}.processing_ns),
+         "through an ESC's processing unit");
     // clang-format on
     return options;
 }
@@ -66,7 +80,8 @@ po::options_description ctl_description() {
     options.add_options()
         ("help,h", "show this help")
         ("control", po::value<std::string>(), "control socket of the ecsim to talk to")
-        ("main-if", po::value<std::string>(), "or: its MAIN interface (socket /run/ecsim/<main-if>.sock)");
+        ("main-if", po::value<std::string>(), "or: its MAIN interface (socket /run/ecsim/<main-if>.sock)")
+        ("json", "for requests that offer it (dc): print the JSON alone");
     // clang-format on
     return options;
 }
@@ -107,6 +122,10 @@ Expected<Invocation, UsageError> parse_ctl(const std::vector<std::string>& argum
     if (options.request.find('\n') != std::string::npos) {
         return unexpected(UsageError{"the COMMAND must not contain a newline"});
     }
+    if (values.count("json") != 0) {
+        options.json = true;
+        options.request += " --json";
+    }
     return Invocation{std::move(options)};
 }
 
@@ -144,6 +163,24 @@ Expected<Invocation, UsageError> parse_run(const std::vector<std::string>& argum
         return unexpected(
             UsageError{fmt::format("--realtime-priority: must be 0..99 (got {})", options.realtime_priority)});
     }
+    sim::SegmentOptions& segment = options.segment;
+    segment.clocks.drift_ppm = values["dc-drift-ppm"].as<std::uint32_t>();
+    segment.clocks.seed = values["dc-seed"].as<std::uint64_t>();
+    segment.propagation.cable_ns = values["dc-cable-delay-ns"].as<std::uint32_t>();
+    segment.propagation.forwarding_ns = values["dc-forwarding-delay-ns"].as<std::uint32_t>();
+    segment.propagation.processing_ns = values["dc-processing-delay-ns"].as<std::uint32_t>();
+    if (segment.clocks.drift_ppm > kMaxDriftPpm) {
+        return unexpected(UsageError{fmt::format(
+            "--dc-drift-ppm: must be 0..{} (got {}; the ESC's time control loop corrects at most ~760 ppm)",
+            kMaxDriftPpm, segment.clocks.drift_ppm)});
+    }
+    for (const auto& [name, value] : {std::pair{"--dc-cable-delay-ns", segment.propagation.cable_ns},
+                                      std::pair{"--dc-forwarding-delay-ns", segment.propagation.forwarding_ns},
+                                      std::pair{"--dc-processing-delay-ns", segment.propagation.processing_ns}}) {
+        if (value > kMaxDelayNs) {
+            return unexpected(UsageError{fmt::format("{}: must be 0..{} ns (got {})", name, kMaxDelayNs, value)});
+        }
+    }
     return Invocation{std::move(options)};
 }
 
@@ -167,8 +204,9 @@ Expected<Invocation, UsageError> parse_command_line(const std::vector<std::strin
 std::string usage_text() {
     std::ostringstream text;
     text << "usage: ecsim --eni FILE --main-if IF [--red-if IF] [--pcap FILE] [--control PATH] [--log-level L]\n"
-            "             [--realtime-priority N]\n"
-         << "       ecsim ctl (--control PATH | --main-if IF) COMMAND [ARG...]\n\n"
+            "             [--realtime-priority N] [--dc-drift-ppm MAX] [--dc-seed N] [--dc-cable-delay-ns N]\n"
+            "             [--dc-forwarding-delay-ns N] [--dc-processing-delay-ns N]\n"
+         << "       ecsim ctl (--control PATH | --main-if IF) [--json] COMMAND [ARG...]\n\n"
          << run_description() << '\n'
          << ctl_description() << '\n'
          << "ctl exit status: 0 ok, 1 error response, 2 usage, 3 no ecsim on the socket\n";

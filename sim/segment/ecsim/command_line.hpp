@@ -3,7 +3,9 @@
 //
 //   ecsim --eni FILE --main-if IF [--red-if IF] [--pcap FILE] [--control PATH]
 //         [--log-level LEVEL] [--realtime-priority N]
-//   ecsim ctl (--control PATH | --main-if IF) COMMAND [ARG...]
+//         [--dc-drift-ppm MAX] [--dc-seed N] [--dc-cable-delay-ns N]
+//         [--dc-forwarding-delay-ns N] [--dc-processing-delay-ns N]
+//   ecsim ctl (--control PATH | --main-if IF) [--json] COMMAND [ARG...]
 //   ecsim --help
 //
 // parse_command_line() only reads the arguments; it opens nothing. Any
@@ -17,6 +19,7 @@
 #include <vector>
 
 #include "ecpair/common/expected.hpp"
+#include "ecpair/sim/segment.hpp"
 #include "exit_status.hpp"
 
 namespace ecpair::ecsim {
@@ -29,11 +32,13 @@ struct RunOptions {
     std::filesystem::path control;  // --control, or /run/ecsim/<main-if>.sock
     std::string log_level = "info";
     int realtime_priority = 0;  // SCHED_FIFO for the event loop when > 0
+    sim::SegmentOptions segment;  // the clocks and delays (--dc-*)
 };
 
 struct CtlOptions {
     std::filesystem::path control;
-    std::string request;  // the COMMAND words joined by single spaces
+    std::string request;  // the COMMAND words joined by single spaces (with --json last when given)
+    bool json = false;    // print the JSON the response carries, without "ok "
 };
 
 struct HelpRequest {};

@@ -1,5 +1,6 @@
 // One request, one response: connect, write the line, read up to the first
-// newline (waiting at most kResponseTimeout in poll()), print it.
+// newline (waiting at most kResponseTimeout in poll()), print it (with
+// --json, what follows "ok ").
 
 #include "control_client.hpp"
 
@@ -88,10 +89,12 @@ int run_control_client(const CtlOptions& options) {
     if (newline == std::string::npos) return fail(path + ": the connection closed before a complete response");
     response.resize(newline);
 
-    std::printf("%s\n", response.c_str());
+    const bool ok = response == "ok" || response.rfind("ok ", 0) == 0;
+    // --json: the JSON alone, for a script's parser (the exit status says ok).
+    const std::string shown = options.json && ok && response.size() > 3 ? response.substr(3) : response;
+    std::printf("%s\n", shown.c_str());
     std::fflush(stdout);
-    if (response == "ok" || response.rfind("ok ", 0) == 0) return kExitOk;
-    return kExitFailure;
+    return ok ? kExitOk : kExitFailure;
 }
 
 }  // namespace ecpair::ecsim

@@ -63,8 +63,13 @@ int run_simulator(const RunOptions& options) {
 
     auto config = eni::load_eni_file(options.eni.string());
     if (!config) return fail(config.error().describe());
-    auto segment = sim::Segment::from_eni(**config);
+    auto segment = sim::Segment::from_eni(**config, options.segment);
     if (!segment) return fail(segment.error().describe());
+    const auto& clocks = options.segment.clocks;
+    const auto& delays = options.segment.propagation;
+    main_log().info("clocks: drift up to {} ppm from seed {}{}; delays: cable {} ns, ESC {} ns alongside / {} ns through its EPU",
+                    clocks.drift_ppm, clocks.seed, clocks.seed == 0 ? " (exact clocks)" : "", delays.cable_ns,
+                    delays.forwarding_ns, delays.processing_ns);
 
     // Only EtherCAT frames concern the segment; anything else the kernel
     // puts on the cable (IPv6 neighbour discovery...) stays out.

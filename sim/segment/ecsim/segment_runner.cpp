@@ -64,6 +64,8 @@ SegmentRunner::~SegmentRunner() {
 std::string SegmentRunner::handle_control(std::string_view line) {
     const auto request = sim::parse_control_request(line);
     if (!request) return sim::control_error(request.error().message);
+    // The clocks' truth is taken now, not at the last frame.
+    setup_.segment.advance_time(nanoseconds(std::chrono::steady_clock::now()));
     if (request->command != sim::ControlCommand::Impair) {
         auto response = sim::execute_control_request(setup_.segment, *request);
         sync_carriers();

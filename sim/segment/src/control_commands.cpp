@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include "ecpair/sim/dc_report_format.hpp"
 #include "ecpair/wire/al_status.hpp"
 
 namespace ecpair::sim {
@@ -146,6 +147,15 @@ std::string execute_control_request(Segment& segment, const ControlRequest& requ
                            fmt::format("slave {} answers the next {} FoE data packet(s) BUSY", k, request.value));
         case ControlCommand::Impair:
             return control_error("impair acts on ecsim's cables, not on the segment: send it to a running ecsim");
+        case ControlCommand::Dc:
+            switch (request.dc) {
+                case DcRequest::Text: return control_ok(format_dc_text(segment.dc_report(), segment));
+                case DcRequest::Json: return control_ok(format_dc_json(segment.dc_report(), segment));
+                case DcRequest::Reset:
+                    segment.reset_dc_statistics();
+                    return control_ok("DC worst deviation and missed SYNC0 edges reset");
+            }
+            break;
     }
     return control_error("unhandled command");
 }

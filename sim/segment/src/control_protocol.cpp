@@ -28,7 +28,7 @@ struct CommandSyntax {
     std::array<Arg, 3> kinds;
 };
 
-constexpr std::array<CommandSyntax, 22> kSyntax{{
+constexpr std::array<CommandSyntax, 23> kSyntax{{
     {ControlCommand::Status, "status", "", 0, {}},
     {ControlCommand::Help, "help", "", 0, {}},
     {ControlCommand::PowerOff, "power-off", "K", 1, {Arg::Position}},
@@ -51,6 +51,7 @@ constexpr std::array<CommandSyntax, 22> kSyntax{{
     {ControlCommand::Emergency, "emergency", "K CODE [REG [DATA]]", 2, {}},      // parsed by parse_emergency
     {ControlCommand::FoePassword, "foe-password", "K PASSWORD", 2, {}},          // parsed by parse_foe_password
     {ControlCommand::FoeBusy, "foe-busy", "K N", 2, {Arg::Position, Arg::Value}},
+    {ControlCommand::Dc, "dc", "[--json|reset]", -1, {}},                       // parsed by parse_dc
 }};
 
 constexpr std::size_t kMaxWords = 5;
@@ -170,6 +171,20 @@ Expected<ControlRequest, ControlParseError> parse_emergency(ControlRequest reque
     return request;
 }
 
+// dc [--json|reset] (the word count is checked already).
+Expected<ControlRequest, ControlParseError> parse_dc(ControlRequest request, std::size_t count,
+                                                     const std::array<std::string_view, kMaxWords>& words) {
+    if (count == 1) return request;
+    if (words[1] == "--json") {
+        request.dc = DcRequest::Json;
+    } else if (words[1] == "reset") {
+        request.dc = DcRequest::Reset;
+    } else {
+        return unexpected(ControlParseError{fmt::format("dc: expected --json or reset, got '{}'", printable(words[1]))});
+    }
+    return request;
+}
+
 Expected<ControlRequest, ControlParseError> parse_foe_password(ControlRequest request,
                                                               const std::array<std::string_view, kMaxWords>& words) {
     const auto position = parse_number(words[1], false, 0xFFFF);
@@ -239,6 +254,14 @@ Expected<ControlRequest, ControlParseError> parse_control_request(std::string_vi
         ControlRequest request;
         request.command = syntax->command;
         return parse_emergency(request, words, count);
+    }
+    if (syntax->command == ControlCommand::Dc) {
+        if (given > 1) {
+            return unexpected(ControlParseError{fmt::format("dc takes at most 1 argument, got {}: {}", given, usage_of(*syntax))});
+        }
+        ControlRequest request;
+        request.command = ControlCommand::Dc;
+        return parse_dc(request, count, words);
     }
     if (given != syntax->argument_count) {
         return unexpected(

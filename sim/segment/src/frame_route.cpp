@@ -12,10 +12,15 @@ struct RecordingPolicy {
     const std::function<bool(std::size_t)>& link;
     std::vector<RouteStep>& steps;
     const WalkState& state;
+    std::uint64_t cable_delay_ns;
     std::uint32_t epus = 0;
 
     bool cable_has_link(std::size_t cable) const { return link(cable); }
     bool port_open(std::size_t slave, int port) const { return (digests[slave].open_ports & (1U << port)) != 0; }
+    std::uint64_t leaving_ns(std::size_t slave, int port, bool through_epu) const {
+        return digests[slave].delays.leaving(port, through_epu);
+    }
+    std::uint64_t cable_ns(std::size_t /*cable*/) const { return cable_delay_ns; }
     void arrived(std::size_t slave, int port, std::uint64_t time_ns) {
         steps.push_back(RouteStep{RouteStep::Kind::Arrival, port, slave, epus, time_ns, state.steps + 1});
     }
@@ -28,14 +33,14 @@ struct RecordingPolicy {
 }  // namespace
 
 bool FrameRoute::record(const Topology& topology, std::span<const PassDigest> digests, Side entry,
-                        const std::function<bool(std::size_t cable)>& cable_has_link, std::uint64_t hop_delay_ns,
+                        const std::function<bool(std::size_t cable)>& cable_has_link, std::uint64_t cable_ns,
                         std::size_t max_steps) {
     steps_.clear();
     slaves_.clear();
     WalkState state;
     state.leaving = Endpoint::of_side(entry);
-    RecordingPolicy policy{digests, cable_has_link, steps_, state};
-    end_ = walk(topology, state, policy, hop_delay_ns, max_steps);
+    RecordingPolicy policy{digests, cable_has_link, steps_, state, cable_ns};
+    end_ = walk(topology, state, policy, max_steps);
     epu_count_ = policy.epus;
     last_epu_after_ns_ = 0;
     index_of_.assign(digests.size(), kNotOnRoute);

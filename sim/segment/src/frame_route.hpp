@@ -45,7 +45,7 @@ public:
     // Records the route from `entry`. False when the walk ran into the step
     // bound: there is no route then, and frames take the step machine.
     bool record(const Topology& topology, std::span<const PassDigest> digests, Side entry,
-                const std::function<bool(std::size_t cable)>& cable_has_link, std::uint64_t hop_delay_ns,
+                const std::function<bool(std::size_t cable)>& cable_has_link, std::uint64_t cable_ns,
                 std::size_t max_steps);
     // Room for a segment of `slaves`, so that recording allocates nothing.
     void reserve(std::size_t slaves) {

@@ -9,7 +9,14 @@
 //   bool port_open(std::size_t slave, int port)
 //   void arrived(std::size_t slave, int port, std::uint64_t time_ns)
 //   bool epu(std::size_t slave, std::uint64_t time_ns)   // false: the frame died there
+//   std::uint64_t leaving_ns(std::size_t slave, int port, bool through_epu)  // time in the ESC
+//   std::uint64_t cable_ns(std::size_t cable)                               // time on the cable
 //
+// The frame's time: it reaches the processing unit when it arrives at port
+// 0 (or, port 0 closed, when it arrives at the port it came in by); it
+// leaves an ESC by a port its forwarding or processing delay (EscDelays,
+// by that port, processing when it passed the EPU since it arrived) after
+// its arrival; the cable adds its delay.
 // A walk can start anywhere (WalkState), so that a carry that followed a
 // recorded route can go on step by step from where the route stopped holding.
 
@@ -32,8 +39,9 @@ struct WalkState {
     // The ports of `slave` from before its EPU pass, while the frame is still
     // inside that slave: the frame's own writes cannot change how it leaves.
     std::optional<std::array<bool, kPortCount>> open_before_epu;
-    std::uint64_t time_ns = 0;
-    std::size_t steps = 0;  // steps taken so far (the bound counts from the frame's entry)
+    std::uint64_t time_ns = 0;  // of the last arrival (or the entry)
+    bool through_epu = false;   // the frame passed `slave`'s EPU since it arrived there
+    std::size_t steps = 0;      // steps taken so far (the bound counts from the frame's entry)
 };
 
 enum class WalkEnd : std::uint8_t { Left, LostNoLink, LostClosedPort, Destroyed, HopLimit };
@@ -45,8 +53,7 @@ struct WalkResult {
 };
 
 template <class Policy>
-WalkResult walk(const Topology& topology, WalkState& s, Policy& policy, std::uint64_t hop_delay_ns,
-                std::size_t max_steps) {
+WalkResult walk(const Topology& topology, WalkState& s, Policy& policy, std::size_t max_steps) {
     for (; s.steps < max_steps; ++s.steps) {
         switch (s.step) {
             case WalkStep::Transmit: {
@@ -54,7 +61,9 @@ WalkResult walk(const Topology& topology, WalkState& s, Policy& policy, std::uin
                 if (!cable || !policy.cable_has_link(*cable)) return {WalkEnd::LostNoLink, s.leaving};
                 const Endpoint arriving = topology.peer(*cable, s.leaving);
                 if (arriving.is_side()) return {WalkEnd::Left, arriving};
-                s.time_ns += hop_delay_ns;
+                if (!s.leaving.is_side()) s.time_ns += policy.leaving_ns(s.leaving.slave, s.leaving.port, s.through_epu);
+                s.time_ns += policy.cable_ns(*cable);
+                s.through_epu = false;
                 const bool was_open = policy.port_open(arriving.slave, arriving.port);
                 policy.arrived(arriving.slave, arriving.port, s.time_ns);
                 if (!was_open) return {WalkEnd::LostClosedPort, arriving};
@@ -87,6 +96,7 @@ WalkResult walk(const Topology& topology, WalkState& s, Policy& policy, std::uin
                     }
                 }
                 if (!policy.epu(s.slave, s.time_ns)) return {WalkEnd::Destroyed, {}, s.slave};
+                s.through_epu = true;
                 s.step = WalkStep::Loopback;
                 s.port = next_port(0);
                 break;

@@ -15,6 +15,7 @@
 #include "ecpair/eni/hot_connect_groups.hpp"
 #include "ecpair/sim/foe_server.hpp"
 #include "ecpair/wire/frame.hpp"
+#include "dc_watch.hpp"
 #include "fast_pass.hpp"
 #include "segment_log.hpp"
 
@@ -70,7 +71,9 @@ Segment::Segment(std::vector<Esc> escs, Topology topology, SegmentOptions option
       origins_(escs_.size()),
       topology_(std::move(topology)),
       options_(options),
-      fast_(std::make_unique<detail::FastPass>()) {
+      fast_(std::make_unique<detail::FastPass>()),
+      dc_(std::make_unique<detail::DcWatch>()) {
+    for (auto& esc : escs_) fit_hardware(esc);
     update_links(/*announce=*/false);  // the initial links are no news
 }
 
@@ -112,10 +115,22 @@ Expected<Segment, TopologyError> Segment::from_eni(const eni::EniConfig& config,
     std::vector<SlaveSpec> specs;
     specs.reserve(config.slaves.size());
     const auto groups = eni::HotConnectGroups::of(config);
+    // A slave ahead of the ENI's reference clock without a <DC> element has no
+    // DC: the configurator takes the first DC-capable slave as the reference
+    // (datasheet I §9.1; TwinCAT's twincat_kpierczy_5slaves.xml). Of the others
+    // the ENI says nothing: they keep the ET1100's 64-bit DC.
+    std::size_t reference = 0;
+    while (reference < config.slaves.size() &&
+           !(config.slaves[reference].dc && config.slaves[reference].dc->reference_clock)) {
+        ++reference;
+    }
+    if (reference == config.slaves.size()) reference = 0;
     for (std::size_t i = 0; i < config.slaves.size(); ++i) {
         const auto& slave = config.slaves[i];
         const auto* previous = selected_previous_port(slave);
-        specs.push_back(SlaveSpec{EscDescription::from_eni(slave), slave.info.phys_addr,
+        EscDescription description = EscDescription::from_eni(slave);
+        if (i < reference && !slave.dc) description.dc = DcSupport::None;
+        specs.push_back(SlaveSpec{std::move(description), slave.info.phys_addr,
                                   previous ? std::optional<eni::PreviousPort>(*previous) : std::nullopt,
                                   slave.source_line, groups.group_of(i), eni::is_floating_head(config, i)});
     }
@@ -168,6 +183,7 @@ void Segment::update_links(bool announce) {
         }
     }
     refresh_digests();
+    dc_->rebuild(escs_);
 }
 
 void Segment::replug(std::span<const std::size_t> cables) {
@@ -226,7 +242,7 @@ Expected<void, FaultError> Segment::power_on(std::size_t position) {
     if (!index) return unexpected(index.error());
     Esc& esc = escs_[*index];
     if (esc.powered()) return {};
-    esc.power_on();
+    power_on_esc(*index);
     segment_log().info("slave {} '{}': power on", position, esc.description().name);
     update_links();
     return {};
@@ -268,6 +284,7 @@ Expected<void, FaultError> Segment::insert_unknown_slave(std::size_t position) {
     }
     const std::size_t index = position - 1;
     Esc esc(unknown_slave_description());
+    fit_hardware(esc);
     if (auto inserted = topology_.insert_slave(index, port_mask(esc)); !inserted) {
         return unexpected(FaultError{inserted.error().message});
     }

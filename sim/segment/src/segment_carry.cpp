@@ -24,7 +24,10 @@
 // end of the frame) cannot change the way this frame leaves that ESC: the
 // loopbacks after an EPU pass use the ports' states from before it.
 //
-// Each arrival at a port adds options.hop_delay_ns to the frame's time.
+// The frame's time: each ESC keeps it for its forwarding or processing
+// delay (by the port it leaves by, EscDelays), each cable for the cable
+// delay (SegmentOptions::propagation); the ESCs take their DC receive times
+// and processing-unit times from it.
 //
 // While the port states stay fixed, each step has exactly one predecessor,
 // so a frame's path cannot run into a loop that avoids its entry: it always
@@ -80,6 +83,7 @@ std::size_t side_index(Side side) { return static_cast<std::size_t>(side); }
 // ------------------------------------------------------------------ time
 
 void Segment::advance_time(std::uint64_t now_ns) {
+    note_time(now_ns);
     if (!options_.fast_pass) {
         for (auto& esc : escs_) esc.advance_time(now_ns);
         return;
@@ -139,6 +143,7 @@ void Segment::refresh_digests() {
 std::optional<Side> Segment::carry(Side entry, Bytes buffer, std::size_t& size, std::uint64_t now_ns) {
     assert(buffer.size() >= wire::kMinFrameSize && size <= buffer.size());
     size = wire::pad_to_minimum(buffer, size);
+    note_time(now_ns);
     ++counters_.sides[side_index(entry)].frames_in;
     // A frame from a side proves that side's carrier is up. ecsim reads carrier
     // changes between batches, so a master's first frames after a plug can
@@ -175,6 +180,10 @@ WalkResult Segment::walk_through_escs(WalkState& state, wire::FrameView* frame, 
 
         bool cable_has_link(std::size_t cable) const { return segment.cable_has_link(cable); }
         bool port_open(std::size_t slave, int port) const { return segment.escs_[slave].port_open(port); }
+        std::uint64_t leaving_ns(std::size_t slave, int port, bool through_epu) const {
+            return segment.escs_[slave].propagation_delays().leaving(port, through_epu);
+        }
+        std::uint64_t cable_ns(std::size_t /*cable*/) const { return segment.options_.propagation.cable_ns; }
         void arrived(std::size_t slave, int port, std::uint64_t time_ns) {
             segment.escs_[slave].frame_arrived_at_port(port, time_ns, seq);
             segment.refresh_digest(slave);
@@ -184,6 +193,7 @@ WalkResult Segment::walk_through_escs(WalkState& state, wire::FrameView* frame, 
             EpuVerdict verdict = EpuVerdict::Forward;
             if (frame != nullptr) {
                 verdict = esc.process(*frame, FrameContext{time_ns, seq});
+                segment.watch_dc(slave, time_ns);
                 if (verdict == EpuVerdict::Destroy) ++segment.counters_.destroyed_circulating;
             } else if (!ethercat) {
                 verdict = esc.process_non_ethercat();
@@ -194,7 +204,7 @@ WalkResult Segment::walk_through_escs(WalkState& state, wire::FrameView* frame, 
         }
     };
     EscPolicy policy{*this, frame, ethercat, seq};
-    return detail::walk(topology_, state, policy, options_.hop_delay_ns, kStepsPerSlave * (escs_.size() + 1));
+    return detail::walk(topology_, state, policy, kStepsPerSlave * (escs_.size() + 1));
 }
 
 std::optional<WalkResult> Segment::walk_fast(Side entry, wire::FrameView& frame, std::uint64_t now_ns,
@@ -206,7 +216,7 @@ std::optional<WalkResult> Segment::walk_fast(Side entry, wire::FrameView& frame,
     detail::FrameRoute& route = fast.routes[side];
     if (!fast.route_valid[side]) {
         const auto link = [this](std::size_t cable) { return cable_has_link(cable); };
-        if (!route.record(topology_, fast.digests, entry, link, options_.hop_delay_ns,
+        if (!route.record(topology_, fast.digests, entry, link, options_.propagation.cable_ns,
                           kStepsPerSlave * (escs_.size() + 1))) {
             return std::nullopt;
         }
@@ -250,6 +260,7 @@ std::optional<WalkResult> Segment::walk_fast(Side entry, wire::FrameView& frame,
             const std::uint8_t ports_before = fast.digests[slave].open_ports;
             addressing.set_auto_increment(frame, step.epus_before);
             const EpuVerdict verdict = escs_[slave].process(frame, FrameContext{time_ns, seq});
+            watch_dc(slave, time_ns);
             refresh_digest(slave);
             if (verdict == EpuVerdict::Destroy) {
                 ++counters_.destroyed_circulating;
@@ -260,6 +271,7 @@ std::optional<WalkResult> Segment::walk_fast(Side entry, wire::FrameView& frame,
             WalkState rest = resume_after(step, slave, time_ns);
             rest.step = detail::WalkStep::Loopback;
             rest.port = next_port(0);
+            rest.through_epu = true;
             rest.open_before_epu.emplace();
             for (int p = 0; p < kPortCount; ++p) {
                 (*rest.open_before_epu)[static_cast<std::size_t>(p)] = (ports_before & (1U << p)) != 0;

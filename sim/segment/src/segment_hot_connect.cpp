@@ -43,7 +43,7 @@ Expected<void, FaultError> Segment::set_group_power(std::size_t group, bool on) 
         if (origins_[i].group != group) continue;
         ++count;
         if (on) {
-            escs_[i].power_on();
+            power_on_esc(i);
         } else {
             escs_[i].power_off();
         }
@@ -96,6 +96,7 @@ Expected<void, FaultError> Segment::plug_added(Esc esc, std::size_t position, in
     if (auto attached = topology_.attach_slave(ports, Endpoint::of_port(*target, port)); !attached) {
         return unexpected(FaultError{attached.error().message});
     }
+    fit_hardware(esc);
     escs_.push_back(std::move(esc));
     origins_.push_back(Origin{true, 0, false});
     segment_log().info("{} plugged into slave {} port {}: it is slave {}", what, position, port_letter(port), escs_.size());

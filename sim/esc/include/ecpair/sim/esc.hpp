@@ -14,6 +14,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "ecpair/common/bytes.hpp"
@@ -43,6 +44,12 @@ struct SmInitWrite {
     bool bootstrap = false;  // written for INIT -> BOOT only (the bootstrap mailbox)
 };
 
+// Distributed clocks support (datasheet I §9.1: slaves with two ports need
+// none; the others have at least the receive times, every ET1100 the whole
+// 64-bit system time).
+enum class DcSupport : std::uint8_t { None, Dc32, Dc64 };
+std::string_view to_string(DcSupport support);  // "none", "32-bit", "64-bit"
+
 // What is needed to build one ESC: identity, ports, the mailbox and process
 // data layout (for the SII image, the checks of the AL state machine and the
 // memory size).
@@ -68,12 +75,14 @@ struct EscDescription {
     std::optional<eni::Mailbox> mailbox;
     eni::ProcessData process_data;
     std::vector<SmInitWrite> sm_init_writes;  // in InitCmd order; records that only clear are left out
+    DcSupport dc = DcSupport::Dc64;
 
     // From an ENI slave: identity, physics, mailbox, process data and the
     // SyncManager records its InitCmds write. The ENI's <Identification
     // Value> becomes the alias when its Ado is 0x0012, the explicit device ID
     // (id_selector) when it is 0x0134, and an input word when the Ado lies in
-    // the process RAM (0x1000 and up).
+    // the process RAM (0x1000 and up). DC: 64-bit (the ENI cannot say 32);
+    // Segment::from_eni takes it away from slaves the ENI shows to have none.
     static EscDescription from_eni(const eni::Slave& slave);
 };
 
@@ -86,6 +95,73 @@ struct FrameContext {
 };
 
 enum class EpuVerdict : std::uint8_t { Forward, Destroy };
+
+// ---- distributed clocks as ecsim sees them (the truth a master cannot read)
+
+// An ESC's quartz: how far it runs off the common time base, and where its
+// local time starts at a power-on: at 0 for start_seed 0, else at a value
+// below 2^32 ns taken from the seed and the number of the power-on (a
+// slave powered up some seconds before the master looks).
+struct Oscillator {
+    std::int64_t drift_ppb = 0;
+    std::uint64_t start_seed = 0;
+};
+
+// How long a frame takes through an ESC, by the port it leaves by (the
+// datasheet's t_F alongside the processing unit, t_P through it), from its
+// arrival at a port (or at the processing unit) to its departure.
+struct EscDelays {
+    std::array<std::uint32_t, kMaxPorts> forwarding_ns{};
+    std::array<std::uint32_t, kMaxPorts> processing_ns{};
+    static EscDelays uniform(std::uint32_t forwarding, std::uint32_t processing) {
+        EscDelays d;
+        d.forwarding_ns.fill(forwarding);
+        d.processing_ns.fill(processing);
+        return d;
+    }
+    std::uint32_t leaving(int port, bool through_epu) const {
+        return through_epu ? processing_ns[static_cast<std::size_t>(port)] : forwarding_ns[static_cast<std::size_t>(port)];
+    }
+    friend bool operator==(const EscDelays&, const EscDelays&) = default;
+};
+
+// What the segment looks at after every call of an ESC.
+struct DcCounters {
+    std::uint64_t steps = 0;            // clock steps (DcClockStep) so far
+    std::uint64_t reference_reads = 0;  // ARMW/FRMW reads of its 0x0910 so far (it is the master's reference clock)
+    bool sync0_running = false;         // cyclic unit and SYNC0 activated
+    friend bool operator==(const DcCounters&, const DcCounters&) = default;
+};
+
+// A change of an ESC's system time against the common time base: a new rate
+// (a received time fed the loop), a jump (a new offset), SYNC0 started or
+// stopped. System times are unwrapped (a 32-bit DC's registers show the low half).
+struct DcClockStep {
+    std::uint64_t at_ns = 0;   // common time
+    std::uint64_t before = 0;  // system time just before
+    std::uint64_t after = 0;   // and just after
+    bool sync0_before = false; // SYNC0 ran just before
+    bool sync0_after = false;  // and just after
+};
+
+// One SYNC pulse: its nominal system time and when it came on the common time base.
+struct SyncEdge {
+    std::uint64_t system_ns = 0;
+    std::uint64_t at_ns = 0;
+};
+
+struct DcTruth {
+    DcSupport support = DcSupport::None;
+    std::uint64_t system_time_ns = 0;  // the local copy of the system time at the time asked, unwrapped
+    std::uint64_t local_time_ns = 0;
+    std::int64_t drift_ppb = 0;        // the oscillator against the common time base
+    bool sync0_running = false;        // cyclic unit and SYNC0 activated
+    std::uint32_t sync0_cycle_ns = 0;
+    std::optional<SyncEdge> last_sync0;
+    std::optional<SyncEdge> previous_sync0;
+    std::uint64_t sync0_missed = 0;    // cycles without a pulse while SYNC0 ran (since reset_dc_counters)
+    std::uint64_t sync0_doubled = 0;   // pulses less than half a cycle after the one before
+};
 
 // What the segment needs of an ESC to carry a frame past it without calling
 // it, when no datagram of the frame addresses it (the segment's fast pass).
@@ -123,6 +199,7 @@ struct PassDigest {
     };
     static constexpr std::size_t kLogicalRanges = 2;  // the outputs and the inputs of most slaves
     std::array<LogicalRange, kLogicalRanges> logical{};
+    EscDelays delays;  // how long a frame takes through it
     friend bool operator==(const PassDigest&, const PassDigest&) = default;
 };
 
@@ -170,10 +247,30 @@ public:
     // "closed wait" when the port is in it.
     void frame_arrived_at_port(int port, std::uint64_t time_ns, std::uint64_t frame_seq);
 
+    // ---- distributed clocks (DcUnit): the oscillator and the truth
+    // The ESC's oscillator and where its local time starts at each power-on
+    // (now, as if it had just been powered on). By default it is exact and
+    // the local time starts at 0.
+    void set_oscillator(const Oscillator& oscillator);
+    // The local copy of the system time at common time `t`, unwrapped.
+    std::uint64_t dc_system_time_at(std::uint64_t t) const;
+    // The truth at common time `now_ns` (SYNC pulses taken up to it).
+    DcTruth dc_truth(std::uint64_t now_ns);
+    // What the segment watches after every call (cheap).
+    DcCounters dc_counters() const;
+    const DcClockStep& dc_last_step() const;
+    void reset_dc_counters();
+
+    // ---- propagation (set by the segment, which adds them up along a frame's way)
+    void set_propagation_delays(const EscDelays& delays);
+    const EscDelays& propagation_delays() const;
+
     // ---- power and faults
     bool powered() const;
     void power_off();
-    void power_on();  // registers to reset values, SII reloaded (alias -> 0x0012)
+    // Registers to reset values, SII reloaded (alias -> 0x0012); the DC
+    // local time starts again (Oscillator) at common time `now_ns`.
+    void power_on(std::uint64_t now_ns = 0);
     // Rewrites SII word 4 and the CRC; 0x0012 follows at the next power-on
     // (an ESC takes the alias over only at the first SII load).
     void set_eeprom_alias(std::uint16_t alias);

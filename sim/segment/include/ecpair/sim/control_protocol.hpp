@@ -13,6 +13,7 @@
 //   refuse-state K STATE | set-selector K VALUE
 //   emergency K CODE [REG [DATA]] | foe-password K PASSWORD | foe-busy K N
 //   impair SIDE LOSS DUP DELAY
+//   dc | dc --json | dc reset
 //
 // K, J and N are decimal numbers (slave positions, a Hot-Connect group);
 // VALUE is decimal or 0x-prefixed hexadecimal, 0..65535; PORT is A..D (or
@@ -26,6 +27,8 @@
 // of the frames crossing it (either way), and delays those entering the
 // segment by DELAY µs (0..100000): netem's job, for kernels without netem.
 // impair SIDE 0 0 0 ends it.
+// dc: the distributed clocks' truth (as text, or as JSON); dc reset starts
+// the worst deviation and the missed SYNC0 edges anew.
 // Words are separated by spaces or tabs; a trailing CR is ignored.
 
 #include <array>
@@ -61,7 +64,11 @@ enum class ControlCommand : std::uint8_t {
     Emergency,
     FoePassword,
     FoeBusy,
+    Dc,
 };
+
+// What `dc` does.
+enum class DcRequest : std::uint8_t { Text, Json, Reset };
 
 std::string_view to_string(ControlCommand command);  // the request word, "power-off"
 
@@ -82,6 +89,7 @@ struct ControlRequest {
     std::uint8_t loss_percent = 0;
     std::uint8_t duplicate_percent = 0;
     std::uint32_t delay_us = 0;
+    DcRequest dc = DcRequest::Text;
 
     friend bool operator==(const ControlRequest&, const ControlRequest&) = default;
 };

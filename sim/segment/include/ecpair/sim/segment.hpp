@@ -30,6 +30,7 @@
 namespace ecpair::sim {
 
 namespace detail {
+class DcWatch;
 struct FastPass;
 class FrameRoute;
 struct RouteStep;
@@ -37,11 +38,33 @@ struct WalkState;
 struct WalkResult;
 }  // namespace detail
 
+// How long frames take (docs/ESC_EMULATION.md "Distributed clocks"): the
+// defaults are a line of ET1100s with 100BASE-TX PHYs and 10 m cables.
+struct PropagationOptions {
+    // One cable from port to port, the PHYs at both ends included (the
+    // datasheet's wire delay t_W): 10 m at 5 ns/m and ~250 ns of PHYs.
+    std::uint32_t cable_ns = 300;
+    // Through an ESC, from a port (or its processing unit) to the next open
+    // port: alongside the processing unit (t_F) and through it (t_P). Equal by
+    // default: the difference is ESC-specific (the ESI's, not the ENI's), and
+    // the common masters' delay calculation assumes none.
+    std::uint32_t forwarding_ns = 300;
+    std::uint32_t processing_ns = 300;
+};
+
+// The ESCs' oscillators. Each ESC's drift is uniform in +-drift_ppm and its
+// local time starts at a power-on somewhere below 2^32 ns, both from the
+// seed (the same seed, the same clocks). 25 ppm by default: the crystals
+// of ESCs are specified at +-25 ppm, so two slaves differ by up to 50 ppm.
+// seed 0: exact clocks that all start at 0 at power-on (the simulation time).
+struct ClockOptions {
+    std::uint32_t drift_ppm = 25;
+    std::uint64_t seed = 1;
+};
+
 struct SegmentOptions {
-    // Time a frame takes from one port to the next ESC's port (cable plus
-    // the receiving ESC's forwarding delay), added at every arrival. It only
-    // spaces the DC receive-time latches and the EPU times apart.
-    std::uint64_t hop_delay_ns = 100;
+    PropagationOptions propagation;
+    ClockOptions clocks;
     // Frames pass the ESCs none of their datagrams address without calling
     // them (see segment_carry.cpp); what a master sees is the same either way.
     // Off: every ESC on the path processes every frame (the reference the
@@ -57,6 +80,34 @@ struct SlaveSpec {
     int source_line = 0;
     std::size_t group = 0;  // Hot-Connect group number (0: mandatory)
     bool floating = false;  // a floating group's head: not plugged in at first
+};
+
+// ecsim's truth about the distributed clocks (Segment::dc_report), for
+// `ecsim ctl dc`. The reference clock is the ESC the master uses: the one an
+// ARMW/FRMW last read 0x0910 of; before any did (or when that one has no
+// power), the first powered ESC with DC by position. A deviation is the
+// slave's system time minus the reference's at the same moment of the common
+// time base (in 32 bits when either has a 32-bit DC). The figures over
+// slaves (max, worst, spread) count the slaves that run SYNC0: those the
+// master has synchronised; a slave that is just powered on, or not
+// configured, has a deviation but is left out of them.
+struct DcSlaveReport {
+    std::size_t position = 0;
+    bool powered = false;
+    DcTruth truth;                          // truth.support None: no DC
+    std::optional<std::int64_t> deviation_ns;  // none: no DC, no power or no reference
+};
+
+struct DcReport {
+    std::uint64_t now_ns = 0;
+    std::optional<std::size_t> reference;  // position
+    bool reference_from_master = false;    // an ARMW/FRMW read it (else: the first DC slave)
+    std::vector<DcSlaveReport> slaves;
+    std::size_t synchronised = 0;          // slaves running SYNC0
+    std::int64_t max_abs_deviation_ns = 0; // now, over the slaves running SYNC0
+    std::int64_t worst_deviation_ns = 0;   // largest absolute deviation since the last reset
+    std::optional<std::int64_t> sync0_spread_ns;  // of the latest SYNC0 edge they all passed
+    std::uint64_t sync0_missed = 0;        // edges missed or doubled since the last reset
 };
 
 struct SideCounters {
@@ -111,6 +162,17 @@ public:
     // even when no frame comes); the earliest moment one of them needs it.
     void advance_time(std::uint64_t now_ns);
     std::optional<std::uint64_t> next_deadline() const;
+    // The latest common time the segment has seen (frames and advance_time).
+    std::uint64_t now_ns() const { return now_ns_; }
+
+    // ---- distributed clocks (segment_dc.cpp)
+    // The truth at now_ns(); allocates (for the control socket, not per frame).
+    DcReport dc_report();
+    // Starts the worst deviation and the missed-edge count anew.
+    void reset_dc_statistics();
+    // Test and bench knobs: one ESC's delays and oscillator (positions 1..n).
+    Expected<void, FaultError> set_esc_delays(std::size_t position, const EscDelays& delays);
+    Expected<void, FaultError> set_oscillator(std::size_t position, const Oscillator& oscillator);
 
     // ---- faults (positions 1..n)
     // Power: all the slave's ports lose link, so neighbours see link loss;
@@ -190,6 +252,14 @@ private:
     // Takes the link away from the slave ports on these cables first (a
     // re-plugged cable), then update_links().
     void replug(std::span<const std::size_t> cables);
+    // Delays and oscillator of a new ESC, from the options (its serial picks its drift).
+    void fit_hardware(Esc& esc);
+    void power_on_esc(std::size_t index);
+    void note_time(std::uint64_t now_ns) {
+        if (now_ns > now_ns_) now_ns_ = now_ns;
+    }
+    // After every call into an ESC (the frame reached it at `time_ns`): its DC steps (segment_dc.cpp).
+    void watch_dc(std::size_t slave, std::uint64_t time_ns);
 
     // Where a slave came from: the ENI (with its group), or an operator's fault.
     struct Origin {
@@ -227,7 +297,10 @@ private:
     std::array<bool, kSideCount> side_link_{true, true};
     SegmentCounters counters_;
     std::uint64_t next_frame_seq_ = 1;
+    std::uint64_t now_ns_ = 0;
+    std::uint64_t next_oscillator_ = 0;  // serial of the next ESC's oscillator
     std::unique_ptr<detail::FastPass> fast_;
+    std::unique_ptr<detail::DcWatch> dc_;
 };
 
 }  // namespace ecpair::sim
