@@ -145,7 +145,7 @@ TEST_CASE("lenient spellings: hex, negative addresses, booleans, names, unknown 
     CHECK_FALSE(eni->process_image);
 }
 
-TEST_CASE("SoE InitCmds are read with their opcode, drive, IDN, elements and data; EoE with its header", "[eni][extra]") {
+TEST_CASE("SoE InitCmds are read with their opcode, drive, IDN, elements and data, EoE with its header", "[eni][extra]") {
     const auto eni = must_load(extra_eni("soe_eoe_drive_2slaves.xml"));
     const auto& mailbox = eni->slaves[1].mailbox.value();
     CHECK(mailbox.protocols == (kEoE | kCoE | kFoE | kSoE));

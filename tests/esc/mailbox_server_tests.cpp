@@ -147,7 +147,7 @@ TEST_CASE("FoE: the slave's state machine refuses what does not fit its state", 
     CHECK(error_code(stack.foe_exchange(wire::FoeAck{2})) == wire::foe_error::kPacketNumberWrong);
 }
 
-TEST_CASE("FoE: a file larger than the store's room ends with disk full; replacing a file counts once",
+TEST_CASE("FoE: a file larger than the store's room ends with disk full, replacing a file counts once",
           "[esc][mailbox][foe]") {
     Stack stack(500);
     const std::vector<std::uint8_t> full(kSm - 12, 7);
@@ -167,7 +167,7 @@ TEST_CASE("FoE: a file larger than the store's room ends with disk full; replaci
     CHECK(stack.foe->files().count("b") == 0);
 }
 
-TEST_CASE("FoE runs in BOOT, CoE does not; a request repeating the counter gets the last reply again",
+TEST_CASE("FoE runs in BOOT, CoE does not, a request repeating the counter gets the last reply again",
           "[esc][mailbox][foe]") {
     Stack stack;
     stack.slave.state = eni::SlaveState::Boot;

@@ -302,7 +302,7 @@ TEST_CASE("an LRW whose Cnt its FMMU records do not give loads, and is refused w
     CHECK(split.error().message.find("export it again") != std::string::npos);
 }
 
-TEST_CASE("the real ENIs' LRWs split with the WKCs their FMMU records give; the encrypted one is refused", "[plan]") {
+TEST_CASE("the real ENIs' LRWs split with the WKCs their FMMU records give, the encrypted one is refused", "[plan]") {
     // The demo runs twincat_kpierczy_5slaves.xml with split_lrw: a refused split would stop the daemon.
     std::size_t with_lrw = 0;
     for (const auto& entry : std::filesystem::directory_iterator(std::string(ECPAIR_TEST_DATA_DIR "/eni"))) {

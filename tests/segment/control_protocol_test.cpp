@@ -129,7 +129,7 @@ TEST_CASE("the Hot-Connect commands name a group, a slave, a port and a state", 
     CHECK_THAT(usage, Catch::Contains("plug-group N K PORT") && Catch::Contains("impair main|red LOSS% DUP% DELAY_US"));
 }
 
-TEST_CASE("emergency takes a code and optionally a register and up to five data bytes; foe-password and foe-busy",
+TEST_CASE("emergency takes a code and optionally a register and up to five data bytes, foe-password and foe-busy",
           "[control]") {
     const auto plain = parsed("emergency 2 0x8130");
     CHECK(plain.command == ControlCommand::Emergency);

@@ -188,7 +188,7 @@ TEST_CASE("SoE: values read and written, a long one in fragments, errors with th
     CHECK(name_written.error().code == 0x2004);
 }
 
-TEST_CASE("EoE: the ENI's InitCmd set the IP parameters; a set and a get over the mailbox",
+TEST_CASE("EoE: the ENI's InitCmd set the IP parameters, a set and a get over the mailbox",
           "[sequencer][mailbox][segment][eoe]") {
     DriveBus bus(MasterState::Safeop);
     const auto held = [&bus] {

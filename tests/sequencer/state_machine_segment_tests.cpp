@@ -90,7 +90,7 @@ TEST_CASE("INIT -> OP -> INIT with real ENIs including their CoE InitCmds", "[se
 // Issue 27: EoE InitCmds run, not skipped: Elmo's EAS writes the set-IP data
 // without the EoE header (PS), EC-Engineer with it (IP), and the SoE drive
 // of soe_eoe_drive_2slaves has SoE InitCmds too.
-TEST_CASE("INIT -> OP -> INIT with EoE and SoE InitCmds; the slaves hold the IP parameters the ENI sets",
+TEST_CASE("INIT -> OP -> INIT with EoE and SoE InitCmds, the slaves hold the IP parameters the ENI sets",
           "[sequencer][sm][segment][coe-server][eoe]") {
     const auto [name, slave, ip] = GENERATE(table<std::string, std::size_t, std::string>(
         {{"elmo_eas_rocos_1slave.xml", 1, "192.168.1.4"},
