@@ -159,7 +159,7 @@ TEST_CASE_METHOD(ServiceFixture, "At the INACTIVE every request is refused at on
     CHECK(slave.requests.empty());
 }
 
-TEST_CASE_METHOD(ServiceFixture, "A transfer cut by the role change fails Interrupted, retryable; so does one still queued",
+TEST_CASE_METHOD(ServiceFixture, "A transfer cut by the role change fails Interrupted, retryable, so does one still queued",
                  "[sequencer][mailbox-service]") {
     sequencer::MailboxServiceOptions options;
     options.workers = 1;
@@ -208,7 +208,7 @@ TEST_CASE_METHOD(ServiceFixture, "Refusals at submit: position, presence, protoc
     CHECK_THAT(silent.error().message, Catch::EndsWith("register read of 2 byte(s) at 0x0130: WKC 0 (no answer)"));
 }
 
-TEST_CASE_METHOD(ServiceFixture, "Each slave's requests run in the order they came; a full queue answers Busy",
+TEST_CASE_METHOD(ServiceFixture, "Each slave's requests run in the order they came, a full queue answers Busy",
                  "[sequencer][mailbox-service]") {
     sequencer::MailboxServiceOptions options;
     options.max_queued = 5;
