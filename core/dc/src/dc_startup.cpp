@@ -194,7 +194,7 @@ Expected<void, std::string> DcStartup::measure(DcSetup& setup, const DcRequest& 
         const auto& exit = tree->exits[i];
         exit_loops.push_back((*loops)[i].data[0]);
         const auto shift = static_cast<unsigned>(2 * exit.port);
-        const auto closed = static_cast<std::uint8_t>((exit_loops.back() & ~(0x03u << shift)) | (kLoopClosed << shift));
+        const auto closed = static_cast<std::uint8_t>((exit_loops.back() & ~(0x03u << shift)) | (static_cast<unsigned>(kLoopClosed) << shift));
         batch.write(static_cast<std::uint16_t>(exit.position), reg::kDlControlLoop, {closed});
     }
     if (!tree->exits.empty()) {
