@@ -3,7 +3,7 @@
 // along the line, offsets that give every slave the reference's system time,
 // the reference clock chosen among the candidates with a clear error when
 // none can be, and a re-measurement that leaves the running slaves' offsets
-// alone.
+// alone. ecsim's 0x092C and the master's reading of it agree on the sign.
 
 #include <catch2/catch.hpp>
 
@@ -11,6 +11,7 @@
 
 #include "ecpair/common/bytes.hpp"
 #include "ecpair/dc/dc_startup.hpp"
+#include "ecpair/dc/deviation_monitor.hpp"
 #include "ecpair/eni/loader.hpp"
 #include "ecpair/sim/segment.hpp"
 #include "ecpair/sim/segment_bus_access.hpp"
@@ -212,4 +213,62 @@ TEST_CASE("a re-measurement gives offsets only to the slaves that join", "[dc]")
     CHECK(f.memory64(4, reg::kDcSystemTimeOffset) != 0);
     CHECK(f.memory64(4, reg::kDcSystemTimeOffset) == *again->slaves[3].offset);
     CHECK(*again->slaves[1].offset == kept);
+}
+
+// The master (dc::SystemTimeDifference) and ecsim's ESC must read bit 31 of
+// 0x092C the same way (dc-and-diagnosis-facts.md: set when the local copy is
+// smaller than the received time): a flip on either side fails here.
+namespace {
+
+constexpr std::uint16_t kTimeDifferenceFilterDepth = 0x0934;
+
+std::vector<std::uint8_t> le(std::uint64_t value, std::size_t length) {
+    std::vector<std::uint8_t> bytes(length);
+    for (std::size_t i = 0; i < length; ++i) bytes[i] = static_cast<std::uint8_t>(value >> (8 * i));
+    return bytes;
+}
+
+}  // namespace
+
+TEST_CASE("0x092C: a slave behind the reference reads as behind, one ahead as ahead", "[dc]") {
+    Fixture f("ecengineer_rocos_elmo_4slaves.xml");
+    dc::DcStartup startup(f.bus, f.host, fixed_clocks());
+    REQUIRE(startup.run(f.start_up()));
+    const auto slave = bus::SlaveAddress::position(2);
+    REQUIRE(bus::write_register(f.segment_bus, slave, kTimeDifferenceFilterDepth, {0}));  // 0x092C = the last Δt
+    const auto delay_read = bus::read_register(f.segment_bus, slave, reg::kDcSystemTimeDelay, 4);
+    const auto offset_read = bus::read_register(f.segment_bus, slave, reg::kDcSystemTimeOffset, 8);
+    REQUIRE(delay_read);
+    REQUIRE(offset_read);
+    const auto delay = load_le<std::uint32_t>(delay_read->data, 0);
+    const auto offset = load_le<std::uint64_t>(offset_read->data, 0);
+    const auto difference_after_armw = [&] {
+        bus::DatagramRequest armw;
+        armw.command = wire::Command::Armw;
+        armw.address = wire::DatagramHeader::physical(bus::SlaveAddress::position(0).adp(), reg::kDcSystemTime);
+        armw.data.assign(8, 0);
+        const auto sent = f.segment_bus.exchange(armw);
+        REQUIRE(sent);
+        CHECK(sent->wkc == 4);
+        const auto read = bus::read_register(f.segment_bus, slave, reg::kDcSystemTimeDifference, 4);
+        REQUIRE(read);
+        return dc::SystemTimeDifference{load_le<std::uint32_t>(read->data, 0)};
+    };
+
+    // 1 ms more delay: the slave's system time is 1 ms behind the reference's.
+    REQUIRE(bus::write_register(f.segment_bus, slave, reg::kDcSystemTimeDelay, le(delay + 1'000'000, 4)));
+    const auto behind = difference_after_armw();
+    INFO(fmt::format("0x092C behind: 0x{:08x}", behind.raw));
+    CHECK(behind.local_behind());
+    CHECK(behind.signed_ns() < -900'000);
+    CHECK(behind.signed_ns() > -1'100'000);
+
+    // The delay back, 1 ms more offset: ahead (less what the loop slewed out meanwhile).
+    REQUIRE(bus::write_register(f.segment_bus, slave, reg::kDcSystemTimeDelay, le(delay, 4)));
+    REQUIRE(bus::write_register(f.segment_bus, slave, reg::kDcSystemTimeOffset, le(offset + 1'000'000, 8)));
+    const auto ahead = difference_after_armw();
+    INFO(fmt::format("0x092C ahead: 0x{:08x}", ahead.raw));
+    CHECK_FALSE(ahead.local_behind());
+    CHECK(ahead.signed_ns() > 500'000);
+    CHECK(ahead.signed_ns() < 1'100'000);
 }

@@ -87,7 +87,7 @@ TEST_CASE("a write to 0x0910 is compared, not stored") {
     one.write(1 * kMs, 0x0910, le64(0));
     // One received time moves the clock by one speed counter step (0.012 ppm): nothing to see a µs later.
     CHECK(u64(one.read(1 * kMs + 1'000, 0x0910, 8)) == 1 * kMs + 1'000);
-    CHECK(u32(one.read(1 * kMs + 2'000, 0x092C, 4)) == (0x80000000U | 1'000'000U));  // 1 ms ahead of 0
+    CHECK(u32(one.read(1 * kMs + 2'000, 0x092C, 4)) == 1'000'000U);  // 1 ms ahead of 0: bit 31 clear
 }
 
 TEST_CASE("an oscillator's drift and power-on start show in the local time") {
@@ -162,7 +162,7 @@ TEST_CASE("a frame that came in by another port latches that port from before th
 
 // ------------------------------------------------------------------ the time control loop
 
-TEST_CASE("ARMW on 0x0910 distributes the reference time - 0x092C codes the difference as section II does") {
+TEST_CASE("ARMW on 0x0910 distributes the reference time - 0x092C codes the difference as the facts sheet does") {
     Line line({drive_description(), drive_description(), drive_description()});
     line.assign_station_addresses();
     for (const std::uint16_t s : {kFirst, kSecond, kThird}) line.fpwr(s, 0x0934, bytes({0}));  // mean = the last difference
@@ -173,9 +173,9 @@ TEST_CASE("ARMW on 0x0910 distributes the reference time - 0x092C codes the diff
     const Datagram armw = line.transact(physical(Command::Armw, 0, 0x0910, std::vector<std::uint8_t>(8, 0)));
     CHECK(armw.wkc == 3);
     CHECK(u64(armw.data) == t + 100);  // the reference clock's system time
-    // Bit 31 set: the local copy is greater than or equal to the received time (section II 2.15.2.4).
-    CHECK(u32(line.fprd(kSecond, 0x092C, 4)) == 0x80000000U);  // (t+200 - 100) - (t+100)
-    CHECK(u32(line.fprd(kThird, 0x092C, 4)) == 100U);          // (t+300 - 300) - (t+100): 100 ns behind
+    // Bit 31 set: the local copy is smaller than the received time (dc-and-diagnosis-facts.md).
+    CHECK(u32(line.fprd(kSecond, 0x092C, 4)) == 0U);                  // (t+200 - 100) - (t+100): equal
+    CHECK(u32(line.fprd(kThird, 0x092C, 4)) == (0x80000000U | 100U));  // (t+300 - 300) - (t+100): 100 ns behind
     CHECK(u32(line.fprd(kFirst, 0x092C, 4)) == 0);             // the reference is read, not written
     CHECK(line[0].dc_counters().reference_reads == 1);
     CHECK(line[1].dc_counters().reference_reads == 0);
@@ -187,7 +187,7 @@ TEST_CASE("the loop compares the lower 32 bits of the received time") {
     line.fpwr(kSecond, 0x0934, bytes({0}));
     line.fpwr(kSecond, 0x0920, le64(std::uint64_t{7} << 32));  // differs from the reference in the upper half only
     line.transact(physical(Command::Frmw, kFirst, 0x0910, le32(0)));
-    CHECK(u32(line.fprd(kSecond, 0x092C, 4)) == (0x80000000U | 100));  // 100 ns ahead: the hop
+    CHECK(u32(line.fprd(kSecond, 0x092C, 4)) == 100U);  // 100 ns ahead (bit 31 clear): the hop
 }
 
 TEST_CASE("0x092C is the mean difference of filter depth 0x0934 - a write to 0x0930 resets the loop") {
@@ -195,11 +195,11 @@ TEST_CASE("0x092C is the mean difference of filter depth 0x0934 - a write to 0x0
     line.assign_station_addresses();
     // Depth 4 (reset value): each new difference moves the mean by a sixteenth.
     line.transact(physical(Command::Frmw, kFirst, 0x0910, le32(0)));
-    CHECK(u32(line.fprd(kSecond, 0x092C, 4)) == (0x80000000U | 100));  // the first difference is the mean
+    CHECK(u32(line.fprd(kSecond, 0x092C, 4)) == 100U);  // the first difference is the mean (ahead)
     CHECK(static_cast<std::int16_t>(u16(line.fprd(kSecond, 0x0932, 2))) == 1);  // ahead: one step slower
     line.fpwr(kSecond, 0x0928, le32(1'700));  // now 1600 ns behind
     line.transact(physical(Command::Frmw, kFirst, 0x0910, le32(0)));
-    CHECK(u32(line.fprd(kSecond, 0x092C, 4)) == 6U);  // 100 + (-1600 - 100) / 16 = -6.25: 6 ns, local copy less
+    CHECK(u32(line.fprd(kSecond, 0x092C, 4)) == (0x80000000U | 6U));  // 100 + (-1600 - 100) / 16 = -6.25: local copy less
     CHECK(static_cast<std::int16_t>(u16(line.fprd(kSecond, 0x0932, 2))) == 0);
 
     line.fpwr(kSecond, 0x0930, le16(0x1000));

@@ -103,7 +103,7 @@ void TimeLoop::publish() {
     }
     const std::int64_t mean = mean_q8_ >= 0 ? (mean_q8_ + 128) >> 8 : -((-mean_q8_ + 128) >> 8);
     const std::uint64_t magnitude = static_cast<std::uint64_t>(std::min(mean < 0 ? -mean : mean, kMagnitudeMax));
-    const std::uint32_t sign = mean >= 0 ? kSignBit : 0U;  // local copy >= received time
+    const std::uint32_t sign = mean < 0 ? kSignBit : 0U;  // local copy smaller than the received time
     memory_.store<std::uint32_t>(reg::kDcSystemTimeDifference, static_cast<std::uint32_t>(magnitude) | sign);
 }
 

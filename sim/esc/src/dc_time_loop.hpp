@@ -25,9 +25,9 @@
 //    no interval yet and only steps D;
 //  - system time difference (0x092C): the mean of Δt, an exponential mean of
 //    depth 0x0934 (2^-depth of each new value; 0: the last Δt), as sign and
-//    magnitude: bit 31 set when the local copy is greater than or equal to
-//    the received time (section II; the facts sheet had it the other way),
-//    bits 30:0 |Δt| up to 0x7FFFFFFF;
+//    magnitude: bit 31 set when the local copy is smaller than the received
+//    time (the facts sheet; the ESC-integrating MCUs' register descriptions
+//    say the same), bits 30:0 |Δt| up to 0x7FFFFFFF;
 //  - a write to 0x0930 resets the filters, D and 0x092C (section II 2.15.2.5;
 //    the ET1100 resets nothing on a write of 0x0934/0x0935). Values outside
 //    0x0080..0x3FFF are taken as the nearest valid one.
