@@ -14,7 +14,8 @@ TEST_CASE("status reports sides, counters, breaks and every slave", "[control]")
     const std::string status = handle_control_line(segment, "status");
     CHECK_THAT(status, Catch::StartsWith("ok slaves=2 main=up red=up in=MAIN:0,RED:0 out=MAIN:0,RED:0 destroyed=0 "
                                          "lost_no_link=0 lost_closed_port=0 non_ecat_dropped=0 unprocessable=0 "
-                                         "hop_limit=0 epus_passed=0 broken=none | 1 name=\"S1\" vendor=0x00000002"));
+                                         "hop_limit=0 epus_passed=0 damaged_dropped=0 broken=none | 1 name=\"S1\" "
+                                         "vendor=0x00000002"));
     CHECK_THAT(status, Catch::Contains("| 2 name=\"S2\""));
     CHECK_THAT(status,
                Catch::Contains("addr=0x0000 alias=0x0000 al=INIT code=0x0000 powered=yes unknown=no ports=0:up/open,1:up/open"));

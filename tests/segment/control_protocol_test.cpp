@@ -35,6 +35,10 @@ TEST_CASE("every control command parses", "[control]") {
     CHECK(parsed("remove-unknown 2") == ControlRequest{ControlCommand::RemoveUnknown, 2, 0});
     CHECK(parsed("set-alias 4 4660") == ControlRequest{ControlCommand::SetAlias, 4, 4660});
     CHECK(parsed("set-id 1 0xBEEF") == ControlRequest{ControlCommand::SetId, 1, 0xBEEF});
+    ControlRequest port_errors{ControlCommand::PortErrors, 3, 0};
+    port_errors.port = 1;
+    port_errors.count = 1'000'000;
+    CHECK(parsed("port-errors 3 B 1000000") == port_errors);
 }
 
 TEST_CASE("blanks and a trailing CR are tolerated", "[control]") {

@@ -48,6 +48,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             again += " " + std::to_string(request->position) + " " + std::to_string(request->at) + " " +
                      std::to_string(request->port);
             break;
+        case ControlCommand::PortErrors:
+            again += " " + std::to_string(request->position) + " " + std::to_string(request->port) + " " +
+                     std::to_string(request->count);
+            break;
         case ControlCommand::RefuseState: {
             static constexpr const char* kStates[] = {"none", "?", "PREOP", "?", "SAFEOP", "?", "?", "?", "OP"};
             again += " " + std::to_string(request->position) + " " + (request->state <= 8 ? kStates[request->state] : "?");

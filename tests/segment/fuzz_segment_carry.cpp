@@ -7,9 +7,11 @@
 //
 // Input: byte 0 picks the entry side (bit 0) and a fault that holds while
 // this frame travels (bits 1-3: none, break, power off, MAIN carrier down,
-// RED carrier down, an unknown slave spliced in, none, none; bits 4-7: the
-// slave or link it concerns); the rest is the frame. Faults are undone after
-// each input so that the wiring does not drift into a dead segment.
+// RED carrier down, an unknown slave spliced in, a port error, none; bits
+// 4-7: the slave or link it concerns, bits 6-7 also the port of a port
+// error); the rest is the frame. Faults are undone after each input so that
+// the wiring does not drift into a dead segment; a port error no frame
+// reached stays pending for the next inputs.
 //
 // Every input goes through two such segments, one with the fast pass and one
 // where every ESC processes every frame: the frames, exits and every ESC's
@@ -52,7 +54,7 @@ ecpair::sim::Segment make_segment(bool fast_pass) {
     return std::move(segment).value();
 }
 
-enum class Fault : std::uint8_t { None, Break, PowerOff, MainDown, RedDown, UnknownSlave };
+enum class Fault : std::uint8_t { None, Break, PowerOff, MainDown, RedDown, UnknownSlave, PortError };
 
 struct AppliedFault {
     Fault fault = Fault::None;
@@ -68,6 +70,7 @@ AppliedFault apply_fault(ecpair::sim::Segment& segment, std::uint8_t selector) {
         case 3: segment.set_side_link(Side::Main, false); return {Fault::MainDown, 0};
         case 4: segment.set_side_link(Side::Red, false); return {Fault::RedDown, 0};
         case 5: (void)segment.insert_unknown_slave(position); return {Fault::UnknownSlave, position};
+        case 6: (void)segment.inject_rx_errors(position, selector >> 6, 1); return {Fault::PortError, position};
         default: return {};
     }
 }
@@ -79,6 +82,7 @@ void undo(ecpair::sim::Segment& segment, const AppliedFault& applied) {
         case Fault::MainDown: segment.set_side_link(Side::Main, true); break;
         case Fault::RedDown: segment.set_side_link(Side::Red, true); break;
         case Fault::UnknownSlave: (void)segment.remove_unknown_slave(applied.target); break;
+        case Fault::PortError:
         case Fault::None: break;
     }
 }
@@ -124,7 +128,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const std::uint64_t in = c.sides[0].frames_in + c.sides[1].frames_in;
     const std::uint64_t out = c.sides[0].frames_out + c.sides[1].frames_out;
     const std::uint64_t dead =
-        c.destroyed_circulating + c.lost_no_link + c.lost_closed_port + c.non_ethercat_dropped + c.hop_limit_exceeded;
+        c.destroyed_circulating + c.lost_no_link + c.lost_closed_port + c.non_ethercat_dropped + c.hop_limit_exceeded +
+        c.damaged_dropped;
     if (in != out + dead) std::abort();
     return 0;
 }

@@ -243,3 +243,24 @@ TEST_CASE("ecsim records every frame in and out, and flushes at exit", "[runner]
     CHECK(frames[0] == std::vector<std::uint8_t>(sent.bytes().begin(), sent.bytes().end()));
     CHECK(frames[1] == std::vector<std::uint8_t>(back.bytes().begin(), back.bytes().end()));
 }
+
+TEST_CASE("a cable that damages frames makes the first slave's port count them", "[runner][error-counters]") {
+    MemoryBench bench(/*with_pcap=*/false);
+    CHECK(bench.request("impair main 100 0 0") == "ok MAIN cable: loss 100%, duplicates 0%, delay 0 µs");
+    TestFrame frame = brd();
+    REQUIRE(bench.probe(sim::Side::Main).send(frame.bytes()));
+    bench.await_status("damaged_dropped=1 ");
+    const std::string status = bench.request("status");
+    CHECK_THAT(status, Catch::Contains("out=MAIN:0,RED:0 "));
+    CHECK_THAT(status, Catch::Contains("| 1 name=\"S1\"") && Catch::Contains("errors=0:1/1/0/0,1:0/0/0/0 group=0 | 2"));
+    CHECK_THAT(status, Catch::Contains("errors=0:0/0/1/0,1:0/0/0/0 group=0 | 3"));
+
+    CHECK(bench.request("impair main 0 0 0") == "ok MAIN cable: loss 0%, duplicates 0%, delay 0 µs");
+    CHECK(bench.request("port-errors 2 A 1") == "ok the next 1 frame(s) arriving at slave 2 port A are damaged there");
+    REQUIRE(bench.probe(sim::Side::Main).send(frame.bytes()));
+    bench.await_status("damaged_dropped=2 ");
+    CHECK_THAT(bench.request("status"), Catch::Contains("errors=0:1/1/1/0,1:0/0/0/0 group=0 | 3") &&
+                                            Catch::Contains("errors=0:0/0/2/0,1:0/0/0/0 group=0 | 4"));
+    CHECK(wkc_of(bench.round_trip(sim::Side::Main, sim::Side::Red, brd())) == 5);
+    CHECK(bench.stop() == ecsim::kExitOk);
+}

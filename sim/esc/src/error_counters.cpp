@@ -10,6 +10,7 @@ namespace {
 
 namespace reg = wire::reg;
 
+constexpr std::uint16_t kForwardedRxErrorCounters = 0x0308;
 constexpr std::uint16_t kRxCountersEnd = 0x030C;
 constexpr std::uint16_t kLostLinkCountersEnd = 0x0314;
 
@@ -29,6 +30,16 @@ void count_processing_unit_error(EscMemory& memory) { saturating_increment(memor
 
 void count_lost_link(EscMemory& memory, int port) {
     saturating_increment(memory, static_cast<std::uint16_t>(reg::kLostLinkCounters + port));
+}
+
+void count_received_error(EscMemory& memory, int port, bool marked_upstream) {
+    if (marked_upstream) {
+        saturating_increment(memory, static_cast<std::uint16_t>(kForwardedRxErrorCounters + port));
+        return;
+    }
+    const auto invalid_frames = static_cast<std::uint16_t>(reg::kRxErrorCounters + 2 * port);
+    saturating_increment(memory, invalid_frames);
+    saturating_increment(memory, static_cast<std::uint16_t>(invalid_frames + 1));
 }
 
 void apply_clearing_writes(EscMemory& memory) {

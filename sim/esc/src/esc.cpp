@@ -164,6 +164,7 @@ struct Esc::Impl {
 
     bool powered = false;
     std::array<std::optional<std::uint64_t>, kMaxPorts> arrival_seq{};
+    std::array<std::uint32_t, kMaxPorts> rx_errors_pending{};  // frames each port's PHY will damage
     std::optional<std::uint64_t> temporary_loop_until_ns;
     std::uint8_t permanent_loop_byte = 0;
     EscDelays delays;  // the segment's to use
@@ -448,6 +449,30 @@ void Esc::frame_arrived_at_port(int port, std::uint64_t time_ns, std::uint64_t f
     impl_->dc.port_arrival(port, time_ns, frame_seq);
     impl_->ports.frame_received(port);
     impl_->update_dl_status();
+}
+
+void Esc::inject_rx_errors(int port, std::uint32_t frames) {
+    if (!valid_port(port)) return;
+    auto& pending = impl_->rx_errors_pending[static_cast<std::size_t>(port)];
+    pending = frames > std::numeric_limits<std::uint32_t>::max() - pending ? std::numeric_limits<std::uint32_t>::max()
+                                                                          : pending + frames;
+}
+
+std::uint32_t Esc::rx_errors_pending(int port) const {
+    return valid_port(port) ? impl_->rx_errors_pending[static_cast<std::size_t>(port)] : 0;
+}
+
+bool Esc::take_rx_error(int port) {
+    if (!valid_port(port)) return false;
+    auto& pending = impl_->rx_errors_pending[static_cast<std::size_t>(port)];
+    if (pending == 0) return false;
+    --pending;
+    return true;
+}
+
+void Esc::damaged_frame_arrived_at_port(int port, bool marked_upstream) {
+    if (!impl_->powered || !valid_port(port)) return;
+    error_counters::count_received_error(impl_->memory, port, marked_upstream);
 }
 
 void Esc::advance_time(std::uint64_t now_ns) {

@@ -3,7 +3,9 @@
 // without netem (the failover campaign uses it): lose or duplicate a share of
 // the frames crossing the cable in either direction, and delay the frames
 // entering the segment by it. Decided per frame with a seeded generator, so
-// that a campaign run can be repeated.
+// that a campaign run can be repeated. A "lost" frame is one the cable
+// damaged: on its way in, the slave port it reaches counts it (the runner
+// carries it as damaged); on its way out, the master's NIC drops it.
 
 #include <chrono>
 #include <cstdint>
@@ -24,7 +26,7 @@ public:
 
     void set(const Impairment& impairment) { impairment_ = impairment; }
     const Impairment& get() const { return impairment_; }
-    // How many copies of a frame cross: 0 (lost), 1, or 2 (duplicated).
+    // How many copies of a frame cross: 0 (damaged), 1, or 2 (duplicated).
     int copies();
 
     std::uint64_t lost() const { return lost_; }

@@ -10,6 +10,7 @@
 
 #include <poll.h>
 
+#include <algorithm>
 #include <array>
 #include <cerrno>
 #include <cstring>
@@ -153,28 +154,33 @@ bool SegmentRunner::serve_side(sim::Side side) {
         }
 
         auto& impairment = impairments_[static_cast<std::size_t>(side)];
-        const int copies = impairment.copies();
-        if (copies == 0) continue;  // lost on the cable
+        // A frame the cable "loses" on its way in reaches the first slave
+        // damaged: that port counts it, and the master never gets it back.
+        const int decided = impairment.copies();
+        const auto condition = decided == 0 ? sim::FrameCondition::Damaged : sim::FrameCondition::Intact;
+        const int copies = std::max(decided, 1);
         if (impairment.get().delay.count() > 0) {
             for (int c = 0; c < copies; ++c) {
-                delayed_.push_back({std::chrono::steady_clock::now() + impairment.get().delay, side,
+                delayed_.push_back({std::chrono::steady_clock::now() + impairment.get().delay, side, condition,
                                     std::vector<std::uint8_t>(buffer.begin(), buffer.begin() + static_cast<std::ptrdiff_t>(frame.size))});
             }
             continue;
         }
         if (copies == 2) {
             std::array<std::uint8_t, wire::kMaxFrameSizeVlan> twin = buffer;
-            carry(side, twin, frame.size, nanoseconds(frame.timestamp));
+            carry(side, twin, frame.size, nanoseconds(frame.timestamp), condition);
         }
-        carry(side, buffer, frame.size, nanoseconds(frame.timestamp));
+        carry(side, buffer, frame.size, nanoseconds(frame.timestamp), condition);
     }
     return true;
 }
 
-void SegmentRunner::carry(sim::Side side, std::span<std::uint8_t> buffer, std::size_t size, std::uint64_t time_ns) {
-    const auto exit = setup_.segment.carry(side, buffer, size, time_ns);
+void SegmentRunner::carry(sim::Side side, std::span<std::uint8_t> buffer, std::size_t size, std::uint64_t time_ns,
+                          sim::FrameCondition condition) {
+    const auto exit = setup_.segment.carry(side, buffer, size, time_ns, condition);
     if (!exit) return;
     const auto outgoing = std::span<const std::uint8_t>(buffer).first(size);
+    // Damaged on its way out: the master's NIC drops it, no slave counts it.
     const int copies = impairments_[static_cast<std::size_t>(*exit)].copies();
     for (int c = 0; c < copies; ++c) send(*exit, outgoing);
 }
@@ -232,7 +238,7 @@ void SegmentRunner::release_delayed() {
         auto& d = delayed_.front();
         std::array<std::uint8_t, wire::kMaxFrameSizeVlan> buffer{};
         std::copy(d.bytes.begin(), d.bytes.end(), buffer.begin());
-        carry(d.side, buffer, d.bytes.size(), nanoseconds(link::Clock::now()));
+        carry(d.side, buffer, d.bytes.size(), nanoseconds(link::Clock::now()), d.condition);
         delayed_.pop_front();
     }
 }

@@ -18,8 +18,11 @@
 // when the PHY is back. It only ever raises what it took down itself.
 // With --pcap every frame in and out is recorded; the file is flushed at
 // most a second after a frame and at exit. `impair` requests on the control
-// socket impair either cable (CableImpairment): lost and duplicated frames,
-// and frames held back a while before they enter the segment.
+// socket impair either cable (CableImpairment): damaged and duplicated
+// frames, and frames held back a while before they enter the segment. A
+// frame damaged on its way in is counted by the port of the first slave it
+// reaches (and as forwarded by the ports after it); one damaged on its way
+// out is lost at the master's NIC.
 //
 // The runner works on the Link / LinkStateSource interfaces, so tests drive
 // it over MemoryWires as ecsim drives it over PcapLinks.
@@ -84,7 +87,8 @@ private:
     // False when the link failed.
     bool serve_side(sim::Side side);
     // Carries one frame received on `side` through the segment and sends it on.
-    void carry(sim::Side side, std::span<std::uint8_t> buffer, std::size_t size, std::uint64_t time_ns);
+    void carry(sim::Side side, std::span<std::uint8_t> buffer, std::size_t size, std::uint64_t time_ns,
+               sim::FrameCondition condition);
     // Queues a frame leaving by `exit` (sent by send_queued()).
     void send(sim::Side exit, std::span<const std::uint8_t> frame);
     void send_queued();
@@ -108,6 +112,7 @@ private:
     struct Delayed {
         std::chrono::steady_clock::time_point due;
         sim::Side side;
+        sim::FrameCondition condition;
         std::vector<std::uint8_t> bytes;
     };
     std::deque<Delayed> delayed_;  // in due order (one delay per side, frames in arrival order)

@@ -33,6 +33,19 @@ std::string port_states(const Esc& esc) {
     return text;
 }
 
+// Per implemented port: invalid frames / RX errors / forwarded RX errors / lost links (0x0300-0x0313).
+std::string port_errors(const Esc& esc) {
+    const auto c = esc.read_memory(0x0300, 0x14);
+    std::string text;
+    for (int p = 0; p < kPortCount; ++p) {
+        if (!esc.port_implemented(p)) continue;
+        const auto i = static_cast<std::size_t>(p);
+        if (!text.empty()) text += ',';
+        text += fmt::format("{}:{}/{}/{}/{}", p, c[2 * i], c[2 * i + 1], c[8 + i], c[0x10 + i]);
+    }
+    return text;
+}
+
 std::string outcome(const Expected<void, FaultError>& result, std::string_view done) {
     return result ? control_ok(done) : control_error(result.error().message);
 }
@@ -53,21 +66,22 @@ std::string format_status(const Segment& segment) {
 
     std::string text = fmt::format(
         "slaves={} main={} red={} in=MAIN:{},RED:{} out=MAIN:{},RED:{} destroyed={} lost_no_link={} "
-        "lost_closed_port={} non_ecat_dropped={} unprocessable={} hop_limit={} epus_passed={} broken={}",
+        "lost_closed_port={} non_ecat_dropped={} unprocessable={} hop_limit={} epus_passed={} damaged_dropped={} "
+        "broken={}",
         segment.slave_count(), segment.side_link(Side::Main) ? "up" : "down",
         segment.side_link(Side::Red) ? "up" : "down", main.frames_in, red.frames_in, main.frames_out, red.frames_out,
         c.destroyed_circulating, c.lost_no_link, c.lost_closed_port, c.non_ethercat_dropped, c.unprocessable,
-        c.hop_limit_exceeded, c.epus_passed, broken.empty() ? "none" : broken);
+        c.hop_limit_exceeded, c.epus_passed, c.damaged_dropped, broken.empty() ? "none" : broken);
 
     for (std::size_t position = 1; position <= segment.slave_count(); ++position) {
         const Esc& esc = segment.slave(position);
         const auto& d = esc.description();
         text += fmt::format(
             " | {} name={} vendor={:#010x} product={:#010x} addr={:#06x} alias={:#06x} al={} code={:#06x} powered={} "
-            "unknown={} ports={} group={}",
+            "unknown={} ports={} errors={} group={}",
             position, quoted(d.name), d.vendor_id, d.product_code, esc.station_address(), esc.station_alias(),
             wire::AlStatus{esc.al_status()}.to_string(), esc.al_status_code(), esc.powered() ? "yes" : "no",
-            segment.is_unknown(position) ? "yes" : "no", port_states(esc), segment.group_of(position));
+            segment.is_unknown(position) ? "yes" : "no", port_states(esc), port_errors(esc), segment.group_of(position));
     }
     return control_ok(text);
 }
@@ -145,6 +159,10 @@ std::string execute_control_request(Segment& segment, const ControlRequest& requ
         case ControlCommand::FoeBusy:
             return outcome(segment.set_foe_busy(k, request.value),
                            fmt::format("slave {} answers the next {} FoE data packet(s) BUSY", k, request.value));
+        case ControlCommand::PortErrors:
+            return outcome(segment.inject_rx_errors(k, request.port, request.count),
+                           fmt::format("the next {} frame(s) arriving at slave {} port {} are damaged there", request.count,
+                                       k, port_letter(request.port)));
         case ControlCommand::Impair:
             return control_error("impair acts on ecsim's cables, not on the segment: send it to a running ecsim");
         case ControlCommand::Dc:

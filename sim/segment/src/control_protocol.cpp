@@ -18,7 +18,9 @@ namespace ecpair::sim {
 namespace {
 
 // What each argument word is.
-enum class Arg : std::uint8_t { Position, Value, Group, At, Port, State };
+enum class Arg : std::uint8_t { Position, Value, Group, At, Port, State, Count };
+
+constexpr std::uint32_t kMaxFrameCount = 1'000'000;
 
 struct CommandSyntax {
     ControlCommand command;
@@ -28,7 +30,7 @@ struct CommandSyntax {
     std::array<Arg, 3> kinds;
 };
 
-constexpr std::array<CommandSyntax, 23> kSyntax{{
+constexpr std::array<CommandSyntax, 24> kSyntax{{
     {ControlCommand::Status, "status", "", 0, {}},
     {ControlCommand::Help, "help", "", 0, {}},
     {ControlCommand::PowerOff, "power-off", "K", 1, {Arg::Position}},
@@ -47,6 +49,7 @@ constexpr std::array<CommandSyntax, 23> kSyntax{{
     {ControlCommand::PlugDuplicate, "plug-duplicate", "K J PORT", 3, {Arg::Position, Arg::At, Arg::Port}},
     {ControlCommand::RefuseState, "refuse-state", "K STATE", 2, {Arg::Position, Arg::State}},
     {ControlCommand::SetSelector, "set-selector", "K VALUE", 2, {Arg::Position, Arg::Value}},
+    {ControlCommand::PortErrors, "port-errors", "K PORT N", 3, {Arg::Position, Arg::Port, Arg::Count}},
     {ControlCommand::Impair, "impair", "main|red LOSS% DUP% DELAY_US", 4, {}},  // parsed by parse_impairment
     {ControlCommand::Emergency, "emergency", "K CODE [REG [DATA]]", 2, {}},      // parsed by parse_emergency
     {ControlCommand::FoePassword, "foe-password", "K PASSWORD", 2, {}},          // parsed by parse_foe_password
@@ -308,6 +311,15 @@ Expected<ControlRequest, ControlParseError> parse_control_request(std::string_vi
                         fmt::format("{}: PORT must be A, B, C or D (or 0..3), got '{}'", syntax->word, printable(word))});
                 }
                 request.port = *port;
+                break;
+            }
+            case Arg::Count: {
+                const auto frames = parse_number(word, false, kMaxFrameCount);
+                if (!frames || *frames == 0) {
+                    return unexpected(ControlParseError{fmt::format("{}: N must be a decimal number in 1..{}, got '{}'",
+                                                                    syntax->word, kMaxFrameCount, printable(word))});
+                }
+                request.count = *frames;
                 break;
             }
             case Arg::State: {

@@ -33,6 +33,17 @@ PortMask port_mask(const Esc& esc) {
     return mask;
 }
 
+// "A, B" for a two-port slave.
+std::string implemented_port_letters(const Esc& esc) {
+    std::string letters;
+    for (int p = 0; p < kPortCount; ++p) {
+        if (!esc.port_implemented(p)) continue;
+        if (!letters.empty()) letters += ", ";
+        letters += port_letter(p);
+    }
+    return letters;
+}
+
 std::vector<PortMask> port_masks(const std::vector<Esc>& escs) {
     std::vector<PortMask> masks;
     masks.reserve(escs.size());
@@ -317,6 +328,7 @@ Expected<void, FaultError> Segment::remove_unknown_slave(std::size_t position) {
     if (auto removed = topology_.remove_slave(*index); !removed) {
         return unexpected(FaultError{removed.error().message});
     }
+    for (int p = 0; p < kPortCount; ++p) rx_errors_pending_ -= escs_[*index].rx_errors_pending(p);
     escs_.erase(escs_.begin() + static_cast<std::ptrdiff_t>(*index));
     origins_.erase(origins_.begin() + static_cast<std::ptrdiff_t>(*index));
     segment_log().info("unknown slave {} removed", position);
@@ -329,6 +341,23 @@ Expected<void, FaultError> Segment::remove_unknown_slave(std::size_t position) {
         }
     }
     update_links();
+    return {};
+}
+
+Expected<void, FaultError> Segment::inject_rx_errors(std::size_t position, int port, std::uint32_t frames) {
+    const auto index = slave_index(position);
+    if (!index) return unexpected(index.error());
+    Esc& esc = escs_[*index];
+    if (!esc.port_implemented(port)) {
+        return unexpected(FaultError{fmt::format("slave {} '{}' has no port {} (its ports: {})", position,
+                                                 esc.description().name, port_letter(port),
+                                                 implemented_port_letters(esc))});
+    }
+    const std::uint32_t before = esc.rx_errors_pending(port);
+    esc.inject_rx_errors(port, frames);
+    rx_errors_pending_ += esc.rx_errors_pending(port) - before;
+    segment_log().info("slave {} '{}' port {}: the next {} frame(s) arriving there are damaged", position,
+                       esc.description().name, port_letter(port), esc.rx_errors_pending(port));
     return {};
 }
 

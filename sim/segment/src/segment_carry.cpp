@@ -29,6 +29,13 @@
 // delay (SegmentOptions::propagation); the ESCs take their DC receive times
 // and processing-unit times from it.
 //
+// Damaged frames (a port's PHY error, inject_rx_errors; a frame that came in
+// damaged, FrameCondition::Damaged): the first port to receive one damaged
+// counts an invalid frame and an RX error, every later port a forwarded RX
+// error; no EPU processes it, it opens no port and latches nothing, and at a
+// side it is dropped (damaged_dropped), as the master's NIC would drop it.
+// While any port error is pending, frames go step by step.
+//
 // While the port states stay fixed, each step has exactly one predecessor,
 // so a frame's path cannot run into a loop that avoids its entry: it always
 // ends at a side (or dies). The bound on the steps (kStepsPerSlave per
@@ -140,7 +147,8 @@ void Segment::refresh_digests() {
 
 // ------------------------------------------------------------------ carry
 
-std::optional<Side> Segment::carry(Side entry, Bytes buffer, std::size_t& size, std::uint64_t now_ns) {
+std::optional<Side> Segment::carry(Side entry, Bytes buffer, std::size_t& size, std::uint64_t now_ns,
+                                   FrameCondition condition) {
     assert(buffer.size() >= wire::kMinFrameSize && size <= buffer.size());
     size = wire::pad_to_minimum(buffer, size);
     note_time(now_ns);
@@ -161,22 +169,29 @@ std::optional<Side> Segment::carry(Side entry, Bytes buffer, std::size_t& size, 
         }
     }
     const std::uint64_t seq = next_frame_seq_++;
-    if (parsed && options_.fast_pass) {
+    // A damaged frame, or one that may be damaged on its way, goes step by
+    // step: every port it reaches counts it.
+    detail::FrameHealth health =
+        condition == FrameCondition::Damaged ? detail::FrameHealth::Damaged : detail::FrameHealth::Intact;
+    if (parsed && options_.fast_pass && health == detail::FrameHealth::Intact && rx_errors_pending_ == 0) {
         if (const auto result = walk_fast(entry, parsed.value(), now_ns, seq)) return finish(*result, entry, seq);
     }
     WalkState state;
     state.leaving = Endpoint::of_side(entry);
     state.time_ns = now_ns;
-    return finish(walk_through_escs(state, parsed ? &parsed.value() : nullptr, !not_ethercat, seq), entry, seq);
+    const WalkResult result = walk_through_escs(state, parsed ? &parsed.value() : nullptr, !not_ethercat, seq, health);
+    return finish(result, entry, seq, health);
 }
 
-WalkResult Segment::walk_through_escs(WalkState& state, wire::FrameView* frame, bool ethercat, std::uint64_t seq) {
+WalkResult Segment::walk_through_escs(WalkState& state, wire::FrameView* frame, bool ethercat, std::uint64_t seq,
+                                      detail::FrameHealth& health) {
     // The wire's questions answered by the ESCs themselves.
     struct EscPolicy {
         Segment& segment;
         wire::FrameView* frame;  // null: not a valid EtherCAT datagram frame
         bool ethercat;           // EtherType 0x88A4 (with frame null: unprocessable, forwarded untouched)
         std::uint64_t seq;
+        detail::FrameHealth& health;
 
         bool cable_has_link(std::size_t cable) const { return segment.cable_has_link(cable); }
         bool port_open(std::size_t slave, int port) const { return segment.escs_[slave].port_open(port); }
@@ -185,11 +200,26 @@ WalkResult Segment::walk_through_escs(WalkState& state, wire::FrameView* frame, 
         }
         std::uint64_t cable_ns(std::size_t /*cable*/) const { return segment.options_.propagation.cable_ns; }
         void arrived(std::size_t slave, int port, std::uint64_t time_ns) {
-            segment.escs_[slave].frame_arrived_at_port(port, time_ns, seq);
+            Esc& esc = segment.escs_[slave];
+            if (health == detail::FrameHealth::Intact && segment.rx_errors_pending_ != 0 && esc.take_rx_error(port)) {
+                --segment.rx_errors_pending_;
+                health = detail::FrameHealth::Damaged;
+            }
+            if (health != detail::FrameHealth::Intact) {
+                // The first port to receive it damaged counts an invalid frame
+                // and marks it; every later one counts a forwarded error.
+                esc.damaged_frame_arrived_at_port(port, health == detail::FrameHealth::Marked);
+                health = detail::FrameHealth::Marked;
+                return;
+            }
+            esc.frame_arrived_at_port(port, time_ns, seq);
             segment.refresh_digest(slave);
         }
         bool epu(std::size_t slave, std::uint64_t time_ns) {
             Esc& esc = segment.escs_[slave];
+            // A damaged frame passes the processing unit without effect: an ESC
+            // takes no write of a frame whose FCS is wrong, and the master drops it.
+            if (health != detail::FrameHealth::Intact) return esc.powered();
             EpuVerdict verdict = EpuVerdict::Forward;
             if (frame != nullptr) {
                 verdict = esc.process(*frame, FrameContext{time_ns, seq});
@@ -203,7 +233,7 @@ WalkResult Segment::walk_through_escs(WalkState& state, wire::FrameView* frame, 
             return verdict == EpuVerdict::Forward;
         }
     };
-    EscPolicy policy{*this, frame, ethercat, seq};
+    EscPolicy policy{*this, frame, ethercat, seq, health};
     return detail::walk(topology_, state, policy, kStepsPerSlave * (escs_.size() + 1));
 }
 
@@ -277,7 +307,8 @@ std::optional<WalkResult> Segment::walk_fast(Side entry, wire::FrameView& frame,
                 (*rest.open_before_epu)[static_cast<std::size_t>(p)] = (ports_before & (1U << p)) != 0;
             }
             apply_passed_before(route, index, frame, seq);
-            return walk_through_escs(rest, &frame, true, seq);
+            detail::FrameHealth intact = detail::FrameHealth::Intact;  // the fast pass carries whole frames only
+            return walk_through_escs(rest, &frame, true, seq, intact);
         }
         // An arrival changes an ESC only through a port in closed wait, and
         // then the ESC was not passable.
@@ -292,7 +323,8 @@ std::optional<WalkResult> Segment::walk_fast(Side entry, wire::FrameView& frame,
         rest.port = next_port(step.port);
         addressing.set_auto_increment(frame, step.epus_before);
         apply_passed_before(route, index, frame, seq);
-        return walk_through_escs(rest, &frame, true, seq);
+        detail::FrameHealth intact = detail::FrameHealth::Intact;
+        return walk_through_escs(rest, &frame, true, seq, intact);
     }
     addressing.set_auto_increment(frame, route.epu_count());
     addressing.apply_passed(frame);
@@ -323,9 +355,18 @@ void Segment::apply_passed_before(const detail::FrameRoute& route, std::uint32_t
     fast.addressing.apply_passed(frame);
 }
 
-std::optional<Side> Segment::finish(const WalkResult& result, Side entry, std::uint64_t seq) {
+std::optional<Side> Segment::finish(const WalkResult& result, Side entry, std::uint64_t seq,
+                                   detail::FrameHealth health) {
     switch (result.end) {
         case WalkEnd::Left:
+            if (health != detail::FrameHealth::Intact) {
+                ++counters_.damaged_dropped;
+                if (tracing_frames()) {
+                    segment_log().debug("frame {} from {} reached {} damaged: dropped (wrong FCS)", seq,
+                                        to_string(entry), to_string(result.where.side));
+                }
+                return std::nullopt;
+            }
             ++counters_.sides[side_index(result.where.side)].frames_out;
             return result.where.side;
         case WalkEnd::LostNoLink:

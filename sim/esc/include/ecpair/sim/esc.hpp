@@ -265,6 +265,20 @@ public:
     void set_propagation_delays(const EscDelays& delays);
     const EscDelays& propagation_delays() const;
 
+    // ---- receive errors (the error counters 0x0300-0x030B)
+    // The PHY of `port` receives the next `frames` frames with an error (added
+    // to those still pending; kept over a power cycle: the fault is the
+    // cable's): `ecsim ctl port-errors`.
+    void inject_rx_errors(int port, std::uint32_t frames);
+    std::uint32_t rx_errors_pending(int port) const;
+    // A frame reaches `port`: true when its PHY damages it (one pending error used up).
+    bool take_rx_error(int port);
+    // A damaged frame reached `port`: counted as an invalid frame and an RX
+    // error, or as a forwarded RX error when an ESC upstream marked it
+    // already. Nothing else happens (it opens no port in closed wait and
+    // latches no receive time): the frame is not valid.
+    void damaged_frame_arrived_at_port(int port, bool marked_upstream);
+
     // ---- power and faults
     bool powered() const;
     void power_off();

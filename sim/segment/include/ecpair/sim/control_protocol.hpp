@@ -12,20 +12,27 @@
 //   plug-unknown K PORT | plug-duplicate K J PORT
 //   refuse-state K STATE | set-selector K VALUE
 //   emergency K CODE [REG [DATA]] | foe-password K PASSWORD | foe-busy K N
+//   port-errors K PORT N
 //   impair SIDE LOSS DUP DELAY
 //   dc | dc --json | dc reset
 //
 // K, J and N are decimal numbers (slave positions, a Hot-Connect group);
 // VALUE is decimal or 0x-prefixed hexadecimal, 0..65535; PORT is A..D (or
-// 0..3); STATE is PREOP, SAFEOP, OP or none.
+// 0..3); STATE is PREOP, SAFEOP, OP or none; N (port-errors) a frame count,
+// 1..1000000.
 // emergency: slave K sends a CoE emergency with error code CODE (0..65535),
 // error register REG (0..255, default 0) and DATA (up to 5 bytes as hex
 // digits, e.g. 0102030405; default zeros). foe-password: slave K's FoE
 // server asks for PASSWORD (0..4294967295, decimal or 0x hex; 0: none).
 // foe-busy: it answers the next N data packets of a write BUSY.
-// impair: the cable on SIDE (main or red) loses LOSS % and duplicates DUP %
+// port-errors: the next N frames arriving at port PORT of slave K are
+// damaged there (its invalid frame and RX error counters count them, the
+// ports after it count forwarded errors; the master loses them).
+// impair: the cable on SIDE (main or red) damages LOSS % and duplicates DUP %
 // of the frames crossing it (either way), and delays those entering the
 // segment by DELAY µs (0..100000): netem's job, for kernels without netem.
+// A damaged frame never reaches the master; one damaged on its way in is
+// counted by the error counters of the slave port it reaches.
 // impair SIDE 0 0 0 ends it.
 // dc: the distributed clocks' truth (as text, or as JSON); dc reset starts
 // the worst deviation and the missed SYNC0 edges anew.
@@ -60,6 +67,7 @@ enum class ControlCommand : std::uint8_t {
     PlugDuplicate,
     RefuseState,
     SetSelector,
+    PortErrors,
     Impair,
     Emergency,
     FoePassword,
@@ -84,6 +92,7 @@ struct ControlRequest {
     std::uint8_t error_register = 0;
     std::array<std::uint8_t, 5> emergency_data{};
     std::uint32_t password = 0;  // foe-password
+    std::uint32_t count = 0;   // N (port-errors)
     // impair
     bool red_side = false;
     std::uint8_t loss_percent = 0;

@@ -36,6 +36,10 @@ class FrameRoute;
 struct RouteStep;
 struct WalkState;
 struct WalkResult;
+// A frame's state as the ESCs see it: whole; damaged on its way into the
+// port it reaches next (not counted yet); or counted as invalid by an ESC
+// and marked, so that every later port counts it as forwarded.
+enum class FrameHealth : std::uint8_t { Intact, Damaged, Marked };
 }  // namespace detail
 
 // How long frames take (docs/ESC_EMULATION.md "Distributed clocks"): the
@@ -61,6 +65,10 @@ struct ClockOptions {
     std::uint32_t drift_ppm = 25;
     std::uint64_t seed = 1;
 };
+
+// How a frame enters the segment: whole, or damaged on the cable it came in
+// by (a bad cable at a master side: the first port it reaches counts it).
+enum class FrameCondition : std::uint8_t { Intact, Damaged };
 
 struct SegmentOptions {
     PropagationOptions propagation;
@@ -124,6 +132,9 @@ struct SegmentCounters {
     std::uint64_t unprocessable = 0;          // EtherType 0x88A4 but not a valid datagram frame: forwarded untouched
     std::uint64_t hop_limit_exceeded = 0;     // still travelling after the hop bound: dropped
     std::uint64_t epus_passed = 0;            // EPUs the fast pass carried a frame past without calling
+    // Reached a side damaged (a port error, an impaired cable): the master's
+    // NIC drops a frame whose FCS is wrong, so it is not sent.
+    std::uint64_t damaged_dropped = 0;
 };
 
 // Why a fault request was refused ("position 7 is out of range 1..5").
@@ -155,7 +166,11 @@ public:
     // the frame in place. Returns the side it leaves by, or nullopt when it
     // died on the way (see the counters). Allocates nothing (but the first
     // time each side's route is recorded after a change of the slave count).
-    std::optional<Side> carry(Side entry, Bytes buffer, std::size_t& size, std::uint64_t now_ns);
+    // A frame that entered Damaged, or was damaged at a port on its way
+    // (inject_rx_errors), is counted by the ESCs' error counters wherever it
+    // arrives, processed by no EPU, and never leaves (damaged_dropped).
+    std::optional<Side> carry(Side entry, Bytes buffer, std::size_t& size, std::uint64_t now_ns,
+                              FrameCondition condition = FrameCondition::Intact);
 
     // ---- time without frames
     // The ESCs' clocks reached `now_ns` (an expired SM watchdog takes effect
@@ -218,6 +233,11 @@ public:
     Expected<void, FaultError> refuse_states_from(std::size_t position, std::optional<eni::SlaveState> state);
     // The ETG.1020 legacy ID selector, read at the slave's next power-on.
     Expected<void, FaultError> set_legacy_id_selector(std::size_t position, std::uint16_t value);
+    // The next `frames` frames arriving at port `port` (0..3) of slave
+    // `position` are damaged there: that port counts invalid frames and RX
+    // errors, every port after it on the frame's way forwarded RX errors, and
+    // the master never gets them back (`ecsim ctl port-errors`).
+    Expected<void, FaultError> inject_rx_errors(std::size_t position, int port, std::uint32_t frames);
     std::size_t group_count() const { return group_count_; }
     std::size_t group_of(std::size_t position) const { return origins_[position - 1].group; }
 
@@ -274,7 +294,7 @@ private:
     // The step machine with the ESCs themselves, from `state` on; `frame`
     // is null for a frame that is not an EtherCAT datagram frame.
     detail::WalkResult walk_through_escs(detail::WalkState& state, wire::FrameView* frame, bool ethercat,
-                                         std::uint64_t seq);
+                                         std::uint64_t seq, detail::FrameHealth& health);
     // The fast pass: along the recorded route, calling only the ESCs the
     // frame may address or that are not passable. nullopt: not possible for
     // this frame (carry() takes the step machine).
@@ -283,7 +303,8 @@ private:
     static detail::WalkState resume_after(const detail::RouteStep& step, std::size_t slave, std::uint64_t time_ns);
     void apply_passed_before(const detail::FrameRoute& route, std::uint32_t index, wire::FrameView& frame,
                              std::uint64_t seq);
-    std::optional<Side> finish(const detail::WalkResult& result, Side entry, std::uint64_t seq);
+    std::optional<Side> finish(const detail::WalkResult& result, Side entry, std::uint64_t seq,
+                               detail::FrameHealth health = detail::FrameHealth::Intact);
     // Pass digests: taken again after every call into an ESC that may change
     // it; one that changes ports or power forgets the recorded routes.
     void refresh_digest(std::size_t slave);
@@ -299,6 +320,7 @@ private:
     std::uint64_t next_frame_seq_ = 1;
     std::uint64_t now_ns_ = 0;
     std::uint64_t next_oscillator_ = 0;  // serial of the next ESC's oscillator
+    std::uint64_t rx_errors_pending_ = 0;  // the ESCs' pending port errors, summed: no fast pass while any
     std::unique_ptr<detail::FastPass> fast_;
     std::unique_ptr<detail::DcWatch> dc_;
 };
