@@ -94,6 +94,11 @@ const std::vector<ExpectedError>& expected_errors() {
          "required element is missing"},
         {"hot_connect_no_members.xml", 138, "/EtherCATConfig/Config/Slave[2]/HotConnect/GroupMemberCnt",
          "a Hot-Connect group has at least one member"},
+        {"fmmu_record_impossible.xml", 107, "/EtherCATConfig/Config/Slave[2]/InitCmds/InitCmd[2]",
+         "FMMU 0 record (00000001020000070011000701000000) cannot be right: type 0x07"},
+        {"encrypted_scrambled_2slaves.xml", 87, "/EncryptedEtherCATConfig/Config/Slave[1]/InitCmds/InitCmd[1]",
+         "this ENI is encrypted (<EncryptedEtherCATConfig EncryptionVersion=\"1\">): the data of its InitCmds does not "
+         "decode (it writes AL control 0xad55, which requests no state"},
     };
     return errors;
 }
@@ -120,6 +125,14 @@ TEST_CASE("every file in eni_bad has an expected error", "[eni][bad]") {
         INFO(entry.path().filename().string());
         CHECK(listed.count(entry.path().filename().string()) == 1);
     }
+}
+
+TEST_CASE("an encrypted ENI is refused with what to do about it", "[eni][bad]") {
+    const auto result = load_eni_file(bad_eni("encrypted_scrambled_2slaves.xml"));
+    REQUIRE_FALSE(result.has_value());
+    INFO(result.error().describe());
+    CHECK_THAT(result.error().message, Catch::Contains("ecpair reads plain ENIs only") &&
+                                           Catch::Contains("export the configuration again without encryption"));
 }
 
 TEST_CASE("describe() puts file, line, path and message together", "[eni][bad]") {

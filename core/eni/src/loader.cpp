@@ -80,6 +80,7 @@ void read_document(const Element& root, EniConfig& config) {
     const auto slave_elements = config_element.children("Slave");
     for (const auto& slave : slave_elements) config.slaves.push_back(detail::read_slave(slave));
     detail::check_slaves(config.slaves, slave_elements);
+    detail::check_register_init_cmds(config, root, config_element, slave_elements);
     for (const auto& cyclic : config_element.children("Cyclic")) config.cyclic.push_back(detail::read_cyclic(cyclic));
     if (const auto image = config_element.child("ProcessImage")) {
         config.process_image = detail::read_process_image(*image);
@@ -124,7 +125,13 @@ EniResult load_eni_string(std::string_view xml, const std::string& name) {
     try {
         read_document(Element(*root, "/" + std::string(root->Name())), *config);
     } catch (const detail::LoadError& e) {
-        return unexpected(error_at(name, e.line(), e.element_path(), e.what()));
+        std::string message = e.what();
+        // An encrypted body may fail anywhere; the register checks say so where they see it.
+        if (std::string_view(root->Name()) == "EncryptedEtherCATConfig" &&
+            message.find("is encrypted") == std::string::npos) {
+            message += " (the root is <EncryptedEtherCATConfig>: if the file is encrypted, export it without encryption)";
+        }
+        return unexpected(error_at(name, e.line(), e.element_path(), std::move(message)));
     }
     logger("eni")->debug("{}: loaded {} slave(s), {} cyclic section(s)", name, config->slaves.size(),
                          config->cyclic.size());

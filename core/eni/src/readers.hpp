@@ -56,6 +56,14 @@ ProcessImage read_process_image(const Element& process_image);
 // `elements[i]` is the <Slave> element that slaves[i] came from.
 void check_slaves(std::vector<Slave>& slaves, const std::vector<Element>& elements);
 
+// ---- register_checks.cpp: register InitCmds whose data cannot be right
+// (FMMU records, station address, AL control) are refused at their InitCmd.
+// Under an <EncryptedEtherCATConfig> root a station address or AL control
+// that does not decode means an encrypted body (refused as such), FMMU
+// records alone a warning. `slave_elements[i]` is the <Slave> of config.slaves[i].
+void check_register_init_cmds(const EniConfig& config, const Element& root, const Element& config_element,
+                              const std::vector<Element>& slave_elements);
+
 // ---- hot_connect_checks.cpp: the rules of Hot-Connect groups (run by check_slaves).
 void check_hot_connect_groups(const std::vector<Slave>& slaves, const std::vector<Element>& elements);
 
