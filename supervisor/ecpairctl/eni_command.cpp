@@ -3,7 +3,8 @@
 // aligned columns:
 //   header           file, root element/version, master, content hash
 //   slave table      ring position, PhysAddr, name, identity, process data
-//                    bits, mailbox protocols, DC role
+//                    bits, mailbox protocols, DC role; then the passive
+//                    terminals (no ESC), which are no part of the ring
 //   cyclic table     every cyclic datagram with its states and offsets
 //   process image    sizes and variable counts
 //   Hot-Connect      groups, when the file has any
@@ -200,6 +201,14 @@ void print_slaves(std::ostream& out, const eni::EniConfig& eni) {
         if (slave.mailbox) coe += slave.mailbox->coe_init_cmds.size();
     }
     fmt::print(out, "init commands: {} master, {} slave register, {} CoE\n", eni.master.init_cmds.size(), esc, coe);
+    for (const auto& passive : eni.passive_slaves) {
+        const std::string where = passive.previous_ports.empty()
+                                      ? std::string()
+                                      : fmt::format(" behind station {} port {}", passive.previous_ports.front().phys_addr,
+                                                    passive.previous_ports.front().port);
+        fmt::print(out, "passive terminal (no ESC, not in the ring): {}{} product {}\n", or_dash(printable(passive.name)), where,
+                   passive.product_code ? fmt::format("0x{:08x}", *passive.product_code) : std::string("-"));
+    }
 }
 
 void print_cyclic(std::ostream& out, const eni::EniConfig& eni) {

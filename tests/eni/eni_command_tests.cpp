@@ -64,6 +64,15 @@ TEST_CASE("eni: Hot-Connect groups and an LRD/LWR file", "[eni][ctl]") {
     CHECK_THAT(split.out, Catch::Contains("CoE"));
 }
 
+TEST_CASE("eni: a passive end cap is listed apart from the ring's slaves", "[eni][ctl]") {
+    const auto r = run({extra_eni("passive_end_cap_4slaves.xml")});
+    INFO(r.out << r.err);
+    CHECK(r.exit_code == 0);
+    CHECK_THAT(r.out, Catch::Contains("\n3 slave(s)\n"));
+    CHECK_THAT(r.out, Catch::Contains("passive terminal (no ESC, not in the ring): Term 4 (EL9011) behind station 1003 port B "
+                                      "product 0x23333052\n"));
+}
+
 TEST_CASE("eni: the 0-slave file is valid", "[eni][ctl]") {
     const auto r = run({real_eni("advantech_empty_ring_0slaves.xml")});
     CHECK(r.exit_code == 0);

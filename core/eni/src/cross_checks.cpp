@@ -69,11 +69,13 @@ void check_unique_phys_addrs(const std::vector<Slave>& slaves, const std::vector
     }
 }
 
-void check_previous_ports(const std::vector<Slave>& slaves, const std::vector<Element>& elements) {
+template <class S>
+void check_previous_ports(const std::vector<S>& owners, const std::vector<Element>& elements,
+                          const std::vector<Slave>& slaves) {
     std::map<std::uint16_t, std::size_t> by_phys_addr;
     for (std::size_t i = 0; i < slaves.size(); ++i) by_phys_addr.emplace(slaves[i].info.phys_addr, i);
-    for (std::size_t i = 0; i < slaves.size(); ++i) {
-        const auto& ports = slaves[i].previous_ports;
+    for (std::size_t i = 0; i < owners.size(); ++i) {
+        const auto& ports = owners[i].previous_ports;
         for (std::size_t p = 0; p < ports.size(); ++p) {
             if (by_phys_addr.contains(ports[p].phys_addr)) continue;
             elements[i].children("PreviousPort")[p].required_child("PhysAddr").fail(
@@ -87,8 +89,13 @@ void check_previous_ports(const std::vector<Slave>& slaves, const std::vector<El
 void check_slaves(std::vector<Slave>& slaves, const std::vector<Element>& elements) {
     derive_ring_positions(slaves, elements);
     check_unique_phys_addrs(slaves, elements);
-    check_previous_ports(slaves, elements);
+    check_previous_ports(slaves, elements, slaves);
     check_hot_connect_groups(slaves, elements);
+}
+
+void check_passive_slaves(const std::vector<PassiveSlave>& passive, const std::vector<Element>& elements,
+                          const std::vector<Slave>& slaves) {
+    check_previous_ports(passive, elements, slaves);
 }
 
 }  // namespace ecpair::eni::detail

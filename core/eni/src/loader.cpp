@@ -77,9 +77,25 @@ void read_document(const Element& root, EniConfig& config) {
 
     const auto config_element = root.required_child("Config");
     config.master = detail::read_master(config_element.required_child("Master"));
-    const auto slave_elements = config_element.children("Slave");
-    for (const auto& slave : slave_elements) config.slaves.push_back(detail::read_slave(slave));
+    std::vector<Element> slave_elements;
+    std::vector<Element> passive_elements;
+    const auto all_slave_elements = config_element.children("Slave");
+    for (std::size_t i = 0; i < all_slave_elements.size(); ++i) {
+        const auto& slave = all_slave_elements[i];
+        if (detail::is_passive_slave(slave)) {
+            auto passive = detail::read_passive_slave(slave, i);
+            logger("eni")->warn("{}:{}: {}: '{}' has no PhysAddr, AutoIncAddr or InitCmds: taken as a passive terminal "
+                                "(no ESC: no address, no process data, not counted in the ring)",
+                                config.source_path, slave.line(), slave.path(), passive.name);
+            config.passive_slaves.push_back(std::move(passive));
+            passive_elements.push_back(slave);
+            continue;
+        }
+        config.slaves.push_back(detail::read_slave(slave));
+        slave_elements.push_back(slave);
+    }
     detail::check_slaves(config.slaves, slave_elements);
+    detail::check_passive_slaves(config.passive_slaves, passive_elements, config.slaves);
     detail::check_register_init_cmds(config, root, config_element, slave_elements);
     for (const auto& cyclic : config_element.children("Cyclic")) config.cyclic.push_back(detail::read_cyclic(cyclic));
     if (const auto image = config_element.child("ProcessImage")) {

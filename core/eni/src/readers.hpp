@@ -37,6 +37,9 @@ Master read_master(const Element& master);
 
 // ---- slave.cpp (Info, PreviousPort, DC, HotConnect; the rest below)
 Slave read_slave(const Element& slave);
+// A <Slave> without PhysAddr, AutoIncAddr and InitCmds: no ESC (an EL9011 end cap).
+bool is_passive_slave(const Element& slave);
+PassiveSlave read_passive_slave(const Element& slave, std::size_t file_index);
 
 // ---- process_data.cpp
 ProcessData read_process_data(const Element& process_data);
@@ -55,6 +58,9 @@ ProcessImage read_process_image(const Element& process_image);
 // are unique and that every PreviousPort names a slave of the file.
 // `elements[i]` is the <Slave> element that slaves[i] came from.
 void check_slaves(std::vector<Slave>& slaves, const std::vector<Element>& elements);
+// Every PreviousPort of a passive slave names a slave of the file.
+void check_passive_slaves(const std::vector<PassiveSlave>& passive, const std::vector<Element>& elements,
+                          const std::vector<Slave>& slaves);
 
 // ---- register_checks.cpp: register InitCmds whose data cannot be right
 // (FMMU records, station address, AL control) are refused at their InitCmd.

@@ -77,7 +77,44 @@ HotConnect read_hot_connect(const Element& hot_connect) {
     return result;
 }
 
+bool has_init_cmds(const Element& slave) {
+    const auto init_cmds = slave.child("InitCmds");
+    return init_cmds && !init_cmds->children("InitCmd").empty();
+}
+
 }  // namespace
+
+bool is_passive_slave(const Element& slave) {
+    const auto info = slave.child("Info");
+    return info && !info->has_child("PhysAddr") && !info->has_child("AutoIncAddr") && !has_init_cmds(slave);
+}
+
+PassiveSlave read_passive_slave(const Element& slave, std::size_t file_index) {
+    PassiveSlave result;
+    result.source_line = slave.line();
+    result.file_index = file_index;
+    const auto info = slave.required_child("Info");
+    result.name = info.optional_text("Name");
+    result.vendor_id = info.optional_number<std::uint32_t>("VendorId", Negative::TwosComplement);
+    result.product_code = info.optional_number<std::uint32_t>("ProductCode", Negative::TwosComplement);
+    result.revision_no = info.optional_number<std::uint32_t>("RevisionNo", Negative::TwosComplement);
+    (void)info.child("Physics");
+    info.log_unread_children();
+    // Without an ESC there is nothing to exchange: process data would be lost in silence.
+    if (const auto process_data = slave.child("ProcessData")) {
+        for (const auto* direction : {"Send", "Recv"}) {
+            const auto range = process_data->child(direction);
+            if (range && range->optional_number<std::uint32_t>("BitLength").value_or(0) != 0) {
+                range->fail("a slave without PhysAddr, AutoIncAddr and InitCmds has no ESC (a passive terminal) and "
+                            "cannot exchange process data; give it its PhysAddr and InitCmds");
+            }
+        }
+    }
+    for (const auto& previous : slave.children("PreviousPort")) result.previous_ports.push_back(read_previous_port(previous));
+    (void)slave.child("InitCmds");
+    slave.log_unread_children();
+    return result;
+}
 
 Slave read_slave(const Element& slave) {
     Slave result;

@@ -259,6 +259,20 @@ struct Slave {
     int source_line = 0;
 };
 
+// A <Slave> with no PhysAddr, no AutoIncAddr and no InitCmds: a terminal
+// without an ESC (TwinCAT 2 lists the EL9011 end cap so, with its name,
+// identity and PreviousPort). It has no address and no process data and is
+// no part of the ring: kept apart from EniConfig::slaves, for the summary.
+struct PassiveSlave {
+    std::string name;
+    std::optional<std::uint32_t> vendor_id;
+    std::optional<std::uint32_t> product_code;
+    std::optional<std::uint32_t> revision_no;
+    std::vector<PreviousPort> previous_ports;
+    int source_line = 0;
+    std::size_t file_index = 0;  // 0-based among all <Slave> elements of the file
+};
+
 // ---------------------------------------------------------------- master
 
 struct MasterInfo {
@@ -338,6 +352,7 @@ struct EniConfig {
     std::optional<std::string> version;
     Master master;
     std::vector<Slave> slaves;  // in file (= ring) order
+    std::vector<PassiveSlave> passive_slaves;  // in file order; no part of the ring
     std::vector<Cyclic> cyclic;
     std::optional<ProcessImage> process_image;
     std::uint64_t content_hash = 0;  // FNV-1a 64 over the file bytes
