@@ -93,7 +93,15 @@ int Daemon::open() {
     hooks.on_done = [this](const sequencer::SequenceResult& result) { on_sequence_done(result); };
     hooks.on_start = [this] { hot_connect_->on_sequence_busy(); };
     hooks.on_scan = [this](const sequencer::ScanOutcome& outcome) { hot_connect_->on_startup_scan(outcome); };
-    state_machine_ = std::make_unique<sequencer::MasterStateMachine>(eni_, master_->bus(), std::move(hooks), &events_);
+    mailboxes_ = std::make_unique<sequencer::SlaveMailboxes>(*eni_, master_->bus(), sequencer::steady_clock());
+    sequencer::StateMachineOptions state_machine_options;
+    state_machine_options.mailboxes = mailboxes_.get();
+    state_machine_ = std::make_unique<sequencer::MasterStateMachine>(eni_, master_->bus(), std::move(hooks), &events_,
+                                                                     sequencer::steady_clock(), state_machine_options);
+    sequencer::MailboxServiceHooks mailbox_hooks;
+    mailbox_hooks.present = [this](std::size_t slave) { return master_->slaves().get(slave).present; };
+    mailbox_hooks.events = &events_;
+    mailbox_service_ = std::make_unique<sequencer::MailboxService>(eni_, master_->bus(), *mailboxes_, mailbox_hooks);
     hot_connect_->set_presence_listener([this](const std::vector<bool>& present, const std::vector<std::uint16_t>& shift) {
         state_machine_->update_presence(present, shift);
     });
@@ -154,6 +162,7 @@ void Daemon::stop_threads() {
     stopping_ = true;
     topology_verifier_.reset();
     slave_monitor_.reset();
+    mailbox_service_.reset();  // fails what is queued, waits for the running transfers
     // Hot-Connect and the state machine call each other: cut that, then stop the machine first.
     if (hot_connect_) hot_connect_->set_presence_listener({});
     state_machine_.reset();  // cancels a running sequence (its requests fail when the cycle stops)

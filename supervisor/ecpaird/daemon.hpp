@@ -27,7 +27,9 @@
 #include "ecpair/redundancy/pair_reception.hpp"
 #include "ecpair/redundancy/redundancy_controller.hpp"
 #include "ecpair/redundancy/topology_verifier.hpp"
+#include "ecpair/sequencer/mailbox_service.hpp"
 #include "ecpair/sequencer/master_state_machine.hpp"
+#include "ecpair/sequencer/slave_mailboxes.hpp"
 #include "ecpair/sequencer/slave_monitor.hpp"
 #include "ecpair/arbitration/random_source.hpp"
 #include "ecpair/supervisor/supervisor.hpp"
@@ -78,7 +80,10 @@ private:
     std::unique_ptr<master::Master> master_;
     std::unique_ptr<master::EventDescriber> describer_;  // event texts for the log and the operator API
     std::unique_ptr<DemoApplication> demo_;
+    // The slaves' mailboxes, shared by the state machine's InitCmds and the mailbox service.
+    std::unique_ptr<sequencer::SlaveMailboxes> mailboxes_;
     std::unique_ptr<sequencer::MasterStateMachine> state_machine_;
+    std::unique_ptr<sequencer::MailboxService> mailbox_service_;  // CoE emergencies as events (docs/MAILBOX.md)
     std::unique_ptr<sequencer::SlaveMonitor> slave_monitor_;
     std::unique_ptr<hotconnect::MasterHost> hot_connect_host_;
     std::unique_ptr<hotconnect::HotConnect> hot_connect_;

@@ -234,3 +234,27 @@ TEST_CASE("events raised outside the cycle thread carry the master's current cyc
     CHECK(reports[2].repetition == Repetition::Single);
     CHECK(reports[2].count == 1);
 }
+
+TEST_CASE("a slave that keeps sending a CoE emergency is one fault, its code and slave counted apart") {
+    REQUIRE(events::kCoeEmergency.repeat.summarised());
+    const auto subject = events::kCoeEmergency.repeat.subject;
+    const auto emergency = [](std::uint64_t cycle, std::uint32_t slave, std::uint32_t code, std::uint32_t reg) {
+        return event(events::kCoeEmergency, cycle, slave, code | reg << 16);
+    };
+    CHECK(subject(emergency(1, 2, 0x8130, 0x11)) == subject(emergency(2, 2, 0x8130, 0x01)));  // the register may move
+    CHECK(subject(emergency(1, 2, 0x8130, 0x11)) != subject(emergency(1, 3, 0x8130, 0x11)));
+    CHECK(subject(emergency(1, 2, 0x8130, 0x11)) != subject(emergency(1, 2, 0x8110, 0x11)));
+
+    // Every 10 ms poll finds it again for a second: the first is reported, the rest are one summary.
+    RepeatSummariser s;
+    CHECK(s.offer(emergency(10, 2, 0x8130, 0x11), t0));
+    for (std::uint64_t k = 1; k < 100; ++k) CHECK_FALSE(s.offer(emergency(10 + 10 * k, 2, 0x8130, 0x11), t0 + k * 10ms));
+    CHECK_FALSE(s.offer(emergency(1000, 3, 0x8110, 0), t0 + 995ms));
+    const auto summary = due(s, t0 + 1s, 1000);
+    REQUIRE(summary.size() == 1);
+    CHECK(summary[0].repetition == Repetition::Summary);
+    CHECK(summary[0].count == 100);
+    REQUIRE(summary[0].subjects.size() == 2);
+    CHECK(summary[0].subjects[0].count == 99);
+    CHECK(summary[0].subjects[1].last.a == 3);
+}

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <thread>
 
 #include <catch2/catch.hpp>
 #include <fmt/format.h>
@@ -236,4 +237,24 @@ TEST_CASE("a slave with another identity is named with configured and found iden
     CHECK(stopped->sequence_error().find("position 1") != std::string::npos);
     CHECK(stopped->sequence_error().find("0x0badc0de") != std::string::npos);
     CHECK(stopped->sequence_error().find("0x00000e5c") != std::string::npos);
+}
+
+TEST_CASE("a CoE emergency a drive sends in OP reaches the operator as an event naming the drive and the code",
+          "[netns][master][coe][application]") {
+    SingleMasterRing ring(shared_eni("ecengineer_rocos_elmo_1slave.xml"));
+    ring.reach_op();
+    const auto [status, reply] = ring.ecsim.ctl("emergency 1 0x8130 0x11 0102030405");
+    INFO(reply);
+    REQUIRE(status == 0);
+    // Nobody talks to the idle mailbox: the mailbox service's poll finds SM1 full.
+    const auto event = ring.events.wait_for("coe-emergency", "CoE emergency 0x8130", 5s);
+    INFO(ring.events.dump());
+    INFO(ring.daemon.log());
+    REQUIRE(event);
+    CHECK_THAT(event->text(), Catch::Contains("'Slave_1001 [Elmo Drive ]' (position 1, station 1001)") &&
+                                  Catch::Contains("error register 0x11, data 01 02 03 04 05"));
+    // One emergency, one event: a second read of the same SM1 would show within a second (poll every 10 ms).
+    std::this_thread::sleep_for(1s);
+    const auto all = ring.events.events();
+    CHECK(std::count_if(all.begin(), all.end(), [](const auto& e) { return e.kind() == "coe-emergency"; }) == 1);
 }

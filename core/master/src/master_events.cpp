@@ -161,6 +161,9 @@ std::string coe_emergency(const Event& e, const EventDescriber& describer) {
                        (e.c >> 8) & 0xFF, (e.c >> 16) & 0xFF, e.c >> 24, e.d & 0xFF);
 }
 std::uint64_t one_subject(const Event&) { return 0; }
+// A slave that sends the same emergency again and again (every poll) is one fault; another slave's, or another
+// error code, is counted apart.
+std::uint64_t coe_emergency_subject(const Event& e) { return pair_of(e.a, e.b & 0xFFFFu); }
 
 }  // namespace
 
@@ -184,7 +187,7 @@ constinit const EventType kTransitionFailed{"transition-failed", transition_fail
 constinit const EventType kFrameResponseError{"frame-response-error", frame_response_error, {frame_response_subject}};
 constinit const EventType kTopologyChangeDetected{"topology-change-detected", topology_change_detected};
 constinit const EventType kCycleStall{"cycle-stall", cycle_stall, {one_subject}};
-constinit const EventType kCoeEmergency{"coe-emergency", coe_emergency};
+constinit const EventType kCoeEmergency{"coe-emergency", coe_emergency, {coe_emergency_subject}};
 
 }  // namespace events
 

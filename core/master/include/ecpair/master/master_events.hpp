@@ -39,7 +39,8 @@ extern const EventType kTopologyChangeDetected;  // a = slaves counted before, b
 // The cycle thread (CycleThread's stall): a = µs it woke after its deadline, b = deadlines skipped. Summarised.
 extern const EventType kCycleStall;
 // A slave's CoE emergency (the mailbox service): a = slave index, b = error code | error register << 16,
-// c = data bytes 0-3 (little-endian), d = data byte 4.
+// c = data bytes 0-3 (little-endian), d = data byte 4. Summarised per slave and error code: a slave that
+// keeps sending emergencies is reported at its first, once a second with counts, and when it stops.
 extern const EventType kCoeEmergency;
 
 }  // namespace ecpair::master::events
