@@ -36,8 +36,6 @@ constexpr auto kTcxIngress = static_cast<bpf_attach_type>(46);
 constexpr int kTcActShot = 2;
 constexpr int kTcActRedirect = 7;
 
-std::size_t index(master::LinkRole role) { return static_cast<std::size_t>(role); }
-
 std::string system_error(int error) { return std::strerror(error); }
 
 // libbpf's own messages (a verifier log, a missing kernel feature) go to our log.

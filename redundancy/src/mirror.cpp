@@ -12,8 +12,6 @@
 namespace ecpair::redundancy {
 namespace {
 
-std::size_t index(master::LinkRole role) { return static_cast<std::size_t>(role); }
-
 // A cycle counter this far behind the newest is another ACTIVE's, not a late copy.
 constexpr std::uint64_t kRestartDistance = 64;
 

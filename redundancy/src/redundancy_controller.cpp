@@ -36,8 +36,6 @@ std::shared_ptr<spdlog::logger> log() { return logger("redundancy"); }
 
 std::uint32_t as_number(RedState s) { return static_cast<std::uint32_t>(s); }
 
-std::size_t index(master::LinkRole role) { return static_cast<std::size_t>(role); }
-
 // The HEADER section of the CMF `frame` carries, if it carries it.
 std::optional<CmfHeader> find_header(const wire::ConstFrameView& frame) {
     for (const auto d : frame) {

@@ -12,6 +12,7 @@
 #include "ecpair/bus/link_bus_access.hpp"
 #include "ecpair/eni/loader.hpp"
 #include "ecpair/link/pcap_link.hpp"
+#include "exit_codes.hpp"
 
 namespace ecpair::ctl {
 namespace {
@@ -20,7 +21,6 @@ namespace po = boost::program_options;
 
 constexpr int kOk = 0;
 constexpr int kMismatch = 1;
-constexpr int kUsage = 2;
 constexpr int kBusFailure = 3;
 
 std::string identity_column(const bus::ScannedSlave& slave) {
@@ -71,7 +71,7 @@ int run_scan_command(const std::vector<std::string>& args, std::ostream& out, st
         po::notify(vm);
     } catch (const po::error& e) {
         fmt::print(err, "ecpairctl scan: {}\n{}", e.what(), fmt::streamed(options));
-        return kUsage;
+        return kExitUsage;
     }
     if (vm.count("help") != 0) {
         fmt::print(out, "usage: ecpairctl scan --if IF [--red-if IF] [--eni FILE]\n{}", fmt::streamed(options));
@@ -79,7 +79,7 @@ int run_scan_command(const std::vector<std::string>& args, std::ostream& out, st
     }
     if (interface.empty()) {
         fmt::print(err, "ecpairctl scan: --if is required\n{}", fmt::streamed(options));
-        return kUsage;
+        return kExitUsage;
     }
 
     std::shared_ptr<const eni::EniConfig> eni;
@@ -87,7 +87,7 @@ int run_scan_command(const std::vector<std::string>& args, std::ostream& out, st
         auto loaded = eni::load_eni_file(eni_path);
         if (!loaded) {
             fmt::print(err, "ecpairctl scan: {}\n", loaded.error().describe());
-            return kUsage;
+            return kExitUsage;
         }
         eni = *loaded;
     }

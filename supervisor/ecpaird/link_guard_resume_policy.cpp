@@ -3,11 +3,6 @@
 #include "ecpair/common/log.hpp"
 
 namespace ecpair::daemon {
-namespace {
-
-std::shared_ptr<spdlog::logger> log() { return logger("ecpaird"); }
-
-}  // namespace
 
 LinkGuardResumePolicy::LinkGuardResumePolicy(boost::asio::io_context& io, linkguard::LinkGuard& guard,
                                              const master::Master& master, std::optional<PairRole> pair)
@@ -18,9 +13,9 @@ LinkGuardResumePolicy::LinkGuardResumePolicy(boost::asio::io_context& io, linkgu
 void LinkGuardResumePolicy::on_links_down(const linkguard::LinksDownReport& report) {
     cycle_at_report_ = master_.cycle();
     inactive_requested_ = false;
-    log()->warn("the link guard took the links down after the cycle stood still for {} ms (last heartbeat cycle {}); "
-                "they come back once the cycle runs{}",
-                report.silence.count(), report.last_cycle, pair_ ? " and this member is INACTIVE" : "");
+    logger("ecpaird")->warn("the link guard took the links down after the cycle stood still for {} ms (last heartbeat cycle {}); "
+                            "they come back once the cycle runs{}",
+                            report.silence.count(), report.last_cycle, pair_ ? " and this member is INACTIVE" : "");
     check();
 }
 
@@ -29,12 +24,12 @@ void LinkGuardResumePolicy::check() {
     if (!guard_.links_down()) return;
     const bool cycle_runs = master_.cycle() > cycle_at_report_;
     if (cycle_runs && pair_ && pair_->is_active() && !inactive_requested_) {
-        log()->warn("links down by the link guard while ACTIVE: becoming INACTIVE before they come up again");
+        logger("ecpaird")->warn("links down by the link guard while ACTIVE: becoming INACTIVE before they come up again");
         pair_->step_down();
         inactive_requested_ = true;
     }
     if (cycle_runs && (!pair_ || !pair_->is_active())) {
-        log()->info("the cycle runs{}: asking the link guard to bring the links up", pair_ ? " and this member is INACTIVE" : "");
+        logger("ecpaird")->info("the cycle runs{}: asking the link guard to bring the links up", pair_ ? " and this member is INACTIVE" : "");
         guard_.bring_links_up();
         return;
     }

@@ -27,11 +27,10 @@
 
 #include "ecpair/common/log.hpp"
 #include "ecpair/wire/frame.hpp"
+#include "tap_bridge_log.hpp"
 
 namespace ecpair::tap_bridge {
 namespace {
-
-std::shared_ptr<spdlog::logger> log() { return logger("tap-bridge"); }
 
 wire::DatagramHeader bridge_datagram_header() {
     wire::DatagramHeader h;
@@ -39,8 +38,6 @@ wire::DatagramHeader bridge_datagram_header() {
     h.address = wire::DatagramHeader::physical(0, kBridgeAdo);
     return h;
 }
-
-constexpr std::size_t kKindAt = 3;
 
 }  // namespace
 
@@ -152,10 +149,8 @@ void BridgeChannel::returned(master::LinkRole, ConstBytes frame) {
         if (!is_bridge_datagram(d)) continue;
         const auto data = d.data();
         // Our own DATA and POLLs come back too; only what the partner wrote matters here.
-        if (data.size() <= kKindAt || data[kKindAt] == static_cast<std::uint8_t>(BridgeKind::Data) ||
-            data[kKindAt] == static_cast<std::uint8_t>(BridgeKind::Poll)) {
-            continue;
-        }
+        const auto kind = peek_kind(data);
+        if (!kind || *kind == BridgeKind::Data || *kind == BridgeKind::Poll) continue;
         const auto decoded = decode_bridge_datagram(data, d.frame_offset() + wire::kDatagramHeaderSize);
         if (!decoded) {
             count_garbled(decoded.error());
@@ -176,9 +171,10 @@ void BridgeChannel::complete(std::uint16_t, const master::ReturnedCopy& main_cop
         auto view = wire::ConstFrameView::parse(copy->frame);
         if (!view) continue;
         for (const auto d : *view) {
-            if (!is_bridge_datagram(d) || d.data().size() <= kKindAt) continue;
-            answered = answered || d.data()[kKindAt] == static_cast<std::uint8_t>(BridgeKind::Answer);
-            unanswered = unanswered || d.data()[kKindAt] == static_cast<std::uint8_t>(BridgeKind::Poll);
+            if (!is_bridge_datagram(d)) continue;
+            const auto kind = peek_kind(d.data());
+            answered = answered || kind == BridgeKind::Answer;
+            unanswered = unanswered || kind == BridgeKind::Poll;
         }
     }
     if (answered) {
@@ -265,7 +261,7 @@ void BridgeChannel::process(master::LinkRole, wire::FrameView& frame, bool first
     for (auto d : frame) {
         if (!is_bridge_datagram(d)) continue;
         const auto data = d.data();
-        if (data.size() <= kKindAt || data[kKindAt] != static_cast<std::uint8_t>(BridgeKind::Poll)) continue;
+        if (peek_kind(data) != BridgeKind::Poll) continue;
         const auto decoded = decode_bridge_datagram(data, d.frame_offset() + wire::kDatagramHeaderSize);
         if (!decoded) {
             count_garbled(decoded.error());  // forwarded() skips POLLs: counted once
@@ -283,10 +279,7 @@ void BridgeChannel::forwarded(master::LinkRole, ConstBytes frame, bool first_pas
         if (!is_bridge_datagram(d)) continue;
         const auto data = d.data();
         // POLLs were handled (answered or counted) before the frame left.
-        if (data.size() > kKindAt && (data[kKindAt] == static_cast<std::uint8_t>(BridgeKind::Poll) ||
-                                      data[kKindAt] == static_cast<std::uint8_t>(BridgeKind::Answer))) {
-            continue;
-        }
+        if (const auto kind = peek_kind(data); kind == BridgeKind::Poll || kind == BridgeKind::Answer) continue;
         const auto decoded = decode_bridge_datagram(data, d.frame_offset() + wire::kDatagramHeaderSize);
         if (!decoded) {
             count_garbled(decoded.error());
@@ -305,7 +298,7 @@ void BridgeChannel::kernel_forwarded(master::LinkRole arrived_on, ConstBytes fra
     for (const auto d : *view) {
         if (!is_bridge_datagram(d)) continue;
         const auto data = d.data();
-        if (data.size() <= kKindAt || data[kKindAt] != static_cast<std::uint8_t>(BridgeKind::Poll)) continue;
+        if (peek_kind(data) != BridgeKind::Poll) continue;
         if (const auto decoded = decode_bridge_datagram(data, d.frame_offset() + wire::kDatagramHeaderSize); !decoded) {
             count_garbled(decoded.error());
             continue;

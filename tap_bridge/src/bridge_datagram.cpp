@@ -49,6 +49,11 @@ bool bridge_datagram(const View& datagram) {
 
 }  // namespace
 
+std::optional<BridgeKind> peek_kind(ConstBytes data) {
+    if (data.size() <= kKindAt) return std::nullopt;
+    return static_cast<BridgeKind>(data[kKindAt]);
+}
+
 std::string_view to_string(BridgeKind kind) {
     switch (kind) {
         case BridgeKind::Data: return "DATA";

@@ -18,11 +18,10 @@
 
 #include "ecpair/common/log.hpp"
 #include "tap_device.hpp"
+#include "tap_bridge_log.hpp"
 
 namespace ecpair::tap_bridge {
 namespace {
-
-std::shared_ptr<spdlog::logger> log() { return logger("tap-bridge"); }
 
 // Frames read per wake-up before the thread looks at its other fds again.
 constexpr int kReadBatch = 64;

@@ -15,8 +15,6 @@
 namespace ecpair::test {
 namespace {
 
-constexpr std::chrono::seconds kStartGuard{10};
-
 // ECPAIR_TEST_FORWARDING=KERNEL|USER|AUTO runs a pair's members on that
 // store-and-forward path (redundancy.forwarding): the second ctest
 // registration of the pair and failover suites sets it (tests/netns/CMakeLists.txt).
@@ -76,7 +74,7 @@ EcpairdProcess::EcpairdProcess(const TestNamespace& ns, EcpairdSettings settings
 }
 
 void EcpairdProcess::wait_ready() {
-    const auto give_up = std::chrono::steady_clock::now() + kStartGuard;
+    const auto give_up = std::chrono::steady_clock::now() + kProgramStartGuard;
     // Ready is answering: the socket file appears at bind(), a moment before
     // the daemon listens, and a connect in between is refused.
     const auto answers = [this] {

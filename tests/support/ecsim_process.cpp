@@ -6,12 +6,6 @@
 #include <thread>
 
 namespace ecpair::test {
-namespace {
-
-// How long a program may take to come up before the test calls it a hang.
-constexpr std::chrono::seconds kStartGuard{10};
-
-}  // namespace
 
 std::string ecsim_binary() { return ECPAIR_ECSIM_BINARY; }
 std::string ecpaird_binary() { return ECPAIR_ECPAIRD_BINARY; }
@@ -30,7 +24,7 @@ EcsimProcess::EcsimProcess(const TestNamespace& ns, EcsimSettings settings) : se
         argv.push_back(std::to_string(settings_.realtime_priority));
     }
     process_.emplace(argv, settings_.dir / "ecsim.log", &ns);
-    const auto give_up = std::chrono::steady_clock::now() + kStartGuard;
+    const auto give_up = std::chrono::steady_clock::now() + kProgramStartGuard;
     while (!std::filesystem::exists(control())) {
         if (!process_->running() || std::chrono::steady_clock::now() > give_up) {
             throw std::runtime_error("ecsim did not come up:\n" + process_->log());
@@ -44,7 +38,7 @@ std::pair<int, std::string> EcsimProcess::ctl(const std::string& request) const 
     std::istringstream words(request);
     for (std::string word; words >> word;) argv.push_back(word);
     ChildProcess client(argv, settings_.dir / "ecsim-ctl.log");
-    const auto status = client.wait_for_exit(kStartGuard);
+    const auto status = client.wait_for_exit(kProgramStartGuard);
     std::string output = client.log();
     while (!output.empty() && output.back() == '\n') output.pop_back();
     return {status.value_or(-1), output};

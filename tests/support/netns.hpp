@@ -79,6 +79,10 @@ private:
     int original_;  // fd of the thread's namespace before the scope
 };
 
+// How long a program the tests start (ecsim, ecpaird, ecpairctl) may take to
+// come up or answer before the test calls it a hang.
+inline constexpr std::chrono::seconds kProgramStartGuard{10};
+
 // A program running in the background, with stdout and stderr written to a
 // log file. Inside a namespace it is started through `ip netns exec` (which
 // also gives it the namespace's view of /sys). It runs in its own process

@@ -58,6 +58,17 @@ TEST_CASE("a sealed datagram decodes to its header and frames", "[tap_bridge]") 
     CHECK(data.back() == 0);
 }
 
+TEST_CASE("peek_kind reads the kind of a sealed datagram, and nothing from data too short to hold it", "[tap_bridge]") {
+    auto data = sealed();
+    CHECK(peek_kind(data) == BridgeKind::Data);
+    BridgePayloadWriter writer(data);
+    writer.seal(BridgeKind::Answer, 1, 2, 0);
+    CHECK(peek_kind(data) == BridgeKind::Answer);
+    CHECK(peek_kind(ecpair::ConstBytes(data).first(4)) == BridgeKind::Answer);
+    CHECK_FALSE(peek_kind(ecpair::ConstBytes(data).first(3)));
+    CHECK_FALSE(peek_kind(ecpair::ConstBytes{}));
+}
+
 TEST_CASE("the header bytes are where WIRE_FORMAT.md puts them", "[tap_bridge]") {
     const auto data = sealed();
     CHECK(data[0] == 'T');

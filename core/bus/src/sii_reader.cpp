@@ -4,58 +4,33 @@
 
 #include "ecpair/common/bytes.hpp"
 #include "ecpair/wire/esc_registers.hpp"
+#include "sii_interface.hpp"
 
 namespace ecpair::bus {
-namespace {
 
-constexpr std::uint16_t kBusy = 0x8000;
-constexpr std::uint16_t kWriteEnableError = 0x4000;
-constexpr std::uint16_t kCommandError = 0x2000;
-constexpr std::uint16_t kEightByteRead = 0x0040;
-constexpr std::uint8_t kReadCommand = 0x01;  // control bits 10:8 = 001
-
-BusError slave_error(SlaveAddress slave, const std::string& what) {
-    return BusError{BusErrc::Timeout, fmt::format("SII of slave at {}: {}", slave.to_string(), what)};
-}
-
-}  // namespace
-
-Expected<std::uint16_t, BusError> SiiReader::wait_idle(SlaveAddress slave) {
-    for (std::uint32_t i = 0; i < busy_polls_; ++i) {
-        auto status = read_register(bus_, slave, wire::reg::kSiiControl, 2);
-        if (!status) return unexpected(status.error());
-        if (status->wkc == 0) return unexpected(slave_error(slave, "slave does not answer"));
-        const auto word = load_le<std::uint16_t>(status->data, 0);
-        if ((word & kBusy) == 0) return word;
-    }
-    return unexpected(slave_error(slave, "EEPROM interface stays busy"));
-}
+namespace sii = sii_interface;
 
 Expected<std::vector<std::uint8_t>, BusError> SiiReader::read_chunk(SlaveAddress slave,
                                                                     std::uint16_t word_address) {
-    auto idle = wait_idle(slave);
+    auto idle = sii::wait_idle(bus_, slave, busy_polls_);
     if (!idle) return unexpected(idle.error());
-    if ((*idle & (kCommandError | kWriteEnableError)) != 0) {
-        // Writing command 000 clears the error bits of an earlier command.
-        auto cleared = write_register(bus_, slave, wire::reg::kSiiControl, {0x00, 0x00});
-        if (!cleared) return unexpected(cleared.error());
-    }
+    if (auto cleared = sii::clear_errors(bus_, slave, *idle); !cleared) return unexpected(cleared.error());
     // Control word (read command in bits 10:8) and the 32-bit word address in one write.
-    std::vector<std::uint8_t> command = {0x00, kReadCommand, 0, 0, 0, 0};
+    std::vector<std::uint8_t> command = {0x00, sii::kReadCommand, 0, 0, 0, 0};
     store_le<std::uint16_t>(command, 2, word_address);
     auto issued = write_register(bus_, slave, wire::reg::kSiiControl, command);
     if (!issued) return unexpected(issued.error());
-    if (issued->wkc == 0) return unexpected(slave_error(slave, "read command not accepted"));
+    if (issued->wkc == 0) return unexpected(sii::error(slave, "read command not accepted"));
 
-    auto done = wait_idle(slave);
+    auto done = sii::wait_idle(bus_, slave, busy_polls_);
     if (!done) return unexpected(done.error());
-    if ((*done & kCommandError) != 0) {
-        return unexpected(slave_error(slave, fmt::format("read of word 0x{:04x} not acknowledged", word_address)));
+    if ((*done & sii::kCommandError) != 0) {
+        return unexpected(sii::error(slave, fmt::format("read of word 0x{:04x} not acknowledged", word_address)));
     }
-    const std::size_t length = (*done & kEightByteRead) != 0 ? 8 : 4;
+    const std::size_t length = (*done & sii::kEightByteRead) != 0 ? 8 : 4;
     auto data = read_register(bus_, slave, wire::reg::kSiiData, length);
     if (!data) return unexpected(data.error());
-    if (data->wkc == 0) return unexpected(slave_error(slave, "data register not readable"));
+    if (data->wkc == 0) return unexpected(sii::error(slave, "data register not readable"));
     return std::move(data->data);
 }
 

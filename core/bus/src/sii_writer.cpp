@@ -4,21 +4,16 @@
 
 #include "ecpair/common/bytes.hpp"
 #include "ecpair/wire/esc_registers.hpp"
+#include "sii_interface.hpp"
 
 namespace ecpair::bus {
+
+namespace sii = sii_interface;
+
 namespace {
 
-constexpr std::uint16_t kBusy = 0x8000;
-constexpr std::uint16_t kWriteEnableError = 0x4000;
-constexpr std::uint16_t kCommandError = 0x2000;
-constexpr std::uint8_t kWriteEnable = 0x01;
-constexpr std::uint8_t kWriteCommand = 0x02;  // control bits 10:8 = 010
 constexpr std::uint16_t kAliasWord = wire::reg::sii::kAlias;
 constexpr std::uint16_t kChecksumWord = wire::reg::sii::kChecksum;
-
-BusError sii_error(SlaveAddress slave, const std::string& what) {
-    return BusError{BusErrc::Timeout, fmt::format("SII of slave at {}: {}", slave.to_string(), what)};
-}
 
 }  // namespace
 
@@ -33,40 +28,25 @@ std::uint8_t sii_configuration_crc(const std::vector<std::uint16_t>& words) {
     return crc;
 }
 
-Expected<std::uint16_t, BusError> SiiWriter::wait_idle(SlaveAddress slave) {
-    for (std::uint32_t i = 0; i < busy_polls_; ++i) {
-        auto status = read_register(bus_, slave, wire::reg::kSiiControl, 2);
-        if (!status) return unexpected(status.error());
-        if (status->wkc == 0) return unexpected(sii_error(slave, "slave does not answer"));
-        const auto word = load_le<std::uint16_t>(status->data, 0);
-        if ((word & kBusy) == 0) return word;
-    }
-    return unexpected(sii_error(slave, "EEPROM interface stays busy"));
-}
-
 Expected<void, BusError> SiiWriter::write_word(SlaveAddress slave, std::uint16_t word_address, std::uint16_t value) {
-    auto idle = wait_idle(slave);
+    auto idle = sii::wait_idle(bus_, slave, busy_polls_);
     if (!idle) return unexpected(idle.error());
-    if ((*idle & (kCommandError | kWriteEnableError)) != 0) {
-        if (auto cleared = write_register(bus_, slave, wire::reg::kSiiControl, {0x00, 0x00}); !cleared) {
-            return unexpected(cleared.error());
-        }
-    }
+    if (auto cleared = sii::clear_errors(bus_, slave, *idle); !cleared) return unexpected(cleared.error());
     std::vector<std::uint8_t> data(2);
     store_le<std::uint16_t>(data, 0, value);
     if (auto put = write_register(bus_, slave, wire::reg::kSiiData, data); !put || put->wkc == 0) {
-        return unexpected(put ? sii_error(slave, "data register not writable") : put.error());
+        return unexpected(put ? sii::error(slave, "data register not writable") : put.error());
     }
-    std::vector<std::uint8_t> command = {kWriteEnable, kWriteCommand, 0, 0, 0, 0};
+    std::vector<std::uint8_t> command = {sii::kWriteEnable, sii::kWriteCommand, 0, 0, 0, 0};
     store_le<std::uint16_t>(command, 2, word_address);
     auto issued = write_register(bus_, slave, wire::reg::kSiiControl, command);
     if (!issued) return unexpected(issued.error());
-    if (issued->wkc == 0) return unexpected(sii_error(slave, "write command not accepted"));
-    auto done = wait_idle(slave);
+    if (issued->wkc == 0) return unexpected(sii::error(slave, "write command not accepted"));
+    auto done = sii::wait_idle(bus_, slave, busy_polls_);
     if (!done) return unexpected(done.error());
-    if ((*done & kWriteEnableError) != 0) return unexpected(sii_error(slave, "write enable refused"));
-    if ((*done & kCommandError) != 0) {
-        return unexpected(sii_error(slave, fmt::format("write of word 0x{:04x} not acknowledged", word_address)));
+    if ((*done & sii::kWriteEnableError) != 0) return unexpected(sii::error(slave, "write enable refused"));
+    if ((*done & sii::kCommandError) != 0) {
+        return unexpected(sii::error(slave, fmt::format("write of word 0x{:04x} not acknowledged", word_address)));
     }
     return {};
 }

@@ -38,7 +38,7 @@ DatagramAddress read_datagram_address(const Element& cmd, wire::Command command)
 std::uint16_t read_datagram_length(const Element& data_length) {
     const auto length = data_length.number<std::uint16_t>();
     if (length > wire::kMaxDatagramData) {
-        data_length.fail(quoted(data_length.text()) + " is out of range 0.." + std::to_string(wire::kMaxDatagramData) +
+        data_length.fail(in_quotes(data_length.text()) + " is out of range 0.." + std::to_string(wire::kMaxDatagramData) +
                          " (the most data one datagram carries)");
     }
     return length;

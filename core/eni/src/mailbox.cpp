@@ -30,7 +30,7 @@ CoeInitCmd read_coe_init_cmd(const Element& cmd) {
     result.timeout = std::chrono::milliseconds(cmd.optional_number<std::uint32_t>("Timeout").value_or(0));
     if (const auto ccs = cmd.child("Ccs")) {
         result.ccs = ccs->number<std::uint8_t>();
-        if (result.ccs != 1 && result.ccs != 2) ccs->fail(quoted(ccs->text()) + " is not 1 (download) or 2 (upload)");
+        if (result.ccs != 1 && result.ccs != 2) ccs->fail(in_quotes(ccs->text()) + " is not 1 (download) or 2 (upload)");
     }
     // Index is decimal in every real file (7186 = 0x1C12); #x hex is accepted too.
     result.index = cmd.required_number<std::uint16_t>("Index");
@@ -64,12 +64,12 @@ SoeInitCmd read_soe_init_cmd(const Element& cmd) {
     if (const auto opcode = cmd.child("OpCode")) {
         result.opcode = opcode->number<std::uint8_t>();
         if (result.opcode != 1 && result.opcode != 3) {
-            opcode->fail(quoted(opcode->text()) + " is not 3 (write) or 1 (read)");
+            opcode->fail(in_quotes(opcode->text()) + " is not 3 (write) or 1 (read)");
         }
     }
     if (const auto drive = cmd.child("DriveNo")) {
         result.drive_no = drive->number<std::uint8_t>();
-        if (result.drive_no > 7) drive->fail(quoted(drive->text()) + " is not a drive number 0..7");
+        if (result.drive_no > 7) drive->fail(in_quotes(drive->text()) + " is not a drive number 0..7");
     }
     result.idn = cmd.required_number<std::uint16_t>("IDN");
     result.elements = cmd.optional_number<std::uint8_t>("Elements").value_or(0x40);
@@ -123,7 +123,7 @@ Mailbox read_mailbox(const Element& mailbox) {
             result.protocols = static_cast<std::uint16_t>(result.protocols | *bit);
         } else {
             logger("eni")->warn("line {}: {}: unknown mailbox protocol {} ignored", protocol.line(), protocol.path(),
-                                quoted(protocol.text()));
+                                in_quotes(protocol.text()));
         }
     }
     // A protocol with its own element is supported even when no <Protocol> says so (Advantech).

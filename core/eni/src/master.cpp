@@ -12,14 +12,14 @@ namespace {
 wire::MacAddress read_mac(const Element& element) {
     const auto text = element.text();
     const auto mac = wire::MacAddress::parse(text);
-    if (!mac) element.fail(quoted(text) + " is not a MAC address (expected 12 hex digits)");
+    if (!mac) element.fail(in_quotes(text) + " is not a MAC address (expected 12 hex digits)");
     return *mac;
 }
 
 // The file writes the EtherType's two bytes little-endian first: "a488" is 0x88A4.
 std::uint16_t read_ether_type(const Element& element) {
     const auto bytes = element.hex_binary();
-    if (bytes.size() != 2) element.fail(quoted(element.text()) + " is not an EtherType (expected 4 hex digits)");
+    if (bytes.size() != 2) element.fail(in_quotes(element.text()) + " is not an EtherType (expected 4 hex digits)");
     return load_le<std::uint16_t>(bytes);
 }
 

@@ -51,7 +51,7 @@ Pdo read_pdo(const Element& pdo) {
     result.name = pdo.optional_text("Name");
     result.sm = pdo.attribute_number<std::uint8_t>("Sm");
     if (result.sm && *result.sm >= kSyncManagerCount) {
-        pdo.fail_attribute("Sm", quoted(std::to_string(*result.sm)) + " is out of range 0..7");
+        pdo.fail_attribute("Sm", in_quotes(std::to_string(*result.sm)) + " is out of range 0..7");
     }
     result.fixed = pdo.attribute_boolean("Fixed").value_or(false);
     result.mandatory = pdo.attribute_boolean("Mandatory").value_or(false);

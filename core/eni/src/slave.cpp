@@ -45,7 +45,7 @@ PreviousPort read_previous_port(const Element& previous) {
     const auto port = previous.required_child("Port");
     const auto letter = port.text();
     const char upper = letter.size() == 1 ? static_cast<char>(std::toupper(static_cast<unsigned char>(letter[0]))) : '?';
-    if (upper < 'A' || upper > 'D') port.fail(quoted(letter) + " is not a port (expected A, B, C or D)");
+    if (upper < 'A' || upper > 'D') port.fail(in_quotes(letter) + " is not a port (expected A, B, C or D)");
     result.port = upper;
     result.phys_addr = previous.required_number<std::uint16_t>("PhysAddr");
     previous.log_unread_children();

@@ -120,7 +120,7 @@ Expected<Utf8Text, std::string> to_utf8(std::string_view document) {
     const std::string name = declared ? lower(*declared) : std::string();
     if (is_latin1_name(name)) return Utf8Text{latin1_to_utf8(document), std::nullopt};
     if (!name.empty() && !is_utf8_name(name)) {
-        return unexpected("the declared encoding " + quoted(*declared) + " is not supported (UTF-8 and ISO-8859-1 are)");
+        return unexpected("the declared encoding " + in_quotes(*declared) + " is not supported (UTF-8 and ISO-8859-1 are)");
     }
     const auto invalid = first_invalid_utf8(document);
     if (!invalid) return Utf8Text{std::string(document), std::nullopt};

@@ -52,7 +52,7 @@ std::string_view trim(std::string_view text) {
 
 // Formatted rather than concatenated: GCC 12 at -O3 reports a false
 // -Wrestrict in the inlined operator+(const char*, std::string&&).
-std::string quoted(std::string_view text) {
+std::string in_quotes(std::string_view text) {
     if (text.size() <= kMaxQuotedLength) return fmt::format("'{}'", text);
     return fmt::format("'{}...'", text.substr(0, kMaxQuotedLength));
 }
@@ -87,7 +87,7 @@ ValueResult<bool> parse_boolean(std::string_view text) {
     const auto value = trim(text);
     if (value == "1" || equals_ignoring_case(value, "true")) return true;
     if (value == "0" || equals_ignoring_case(value, "false")) return false;
-    return unexpected(quoted(text) + " is not a boolean (expected 1, 0, true or false)");
+    return unexpected(in_quotes(text) + " is not a boolean (expected 1, 0, true or false)");
 }
 
 ValueResult<std::vector<std::uint8_t>> parse_hex_binary(std::string_view text) {
@@ -98,9 +98,9 @@ ValueResult<std::vector<std::uint8_t>> parse_hex_binary(std::string_view text) {
     const auto spaces = std::count_if(text.begin(), text.end(),
                                       [](char c) { return std::isspace(static_cast<unsigned char>(c)) != 0; });
     if (static_cast<std::size_t>(digits + spaces) != text.size()) {
-        return unexpected(quoted(text) + " is not hexBinary (only hex digits are allowed)");
+        return unexpected(in_quotes(text) + " is not hexBinary (only hex digits are allowed)");
     }
-    return unexpected(quoted(text) + " is not hexBinary (odd number of hex digits)");
+    return unexpected(in_quotes(text) + " is not hexBinary (odd number of hex digits)");
 }
 
 ValueResult<Transition> parse_transition(std::string_view text) {
@@ -111,7 +111,7 @@ ValueResult<Transition> parse_transition(std::string_view text) {
         {"PP", Transition::PP},
     }};
     if (auto code = lookup(trim(text), kCodes)) return *code;
-    return unexpected("unknown transition code " + quoted(text) +
+    return unexpected("unknown transition code " + in_quotes(text) +
                       " (expected IP, PS, SO, SP, OP, OS, PI, SI, OI, IB, BI, II or PP)");
 }
 
@@ -124,7 +124,7 @@ ValueResult<SlaveState> parse_state(std::string_view text) {
         {"OP", SlaveState::Op},
     }};
     if (auto state = lookup(trim(text), kStates)) return *state;
-    return unexpected("unknown state " + quoted(text) + " (expected INIT, PREOP, BOOT, SAFEOP or OP)");
+    return unexpected("unknown state " + in_quotes(text) + " (expected INIT, PREOP, BOOT, SAFEOP or OP)");
 }
 
 ValueResult<SmType> parse_sm_type(std::string_view text) {
@@ -138,7 +138,7 @@ ValueResult<SmType> parse_sm_type(std::string_view text) {
         {"Unused", SmType::Unused},
     }};
     if (auto type = lookup(trim(text), kTypes)) return *type;
-    return unexpected("unknown SyncManager type " + quoted(text) + " (expected Outputs, Inputs, MBoxOut, MBoxIn or Unused)");
+    return unexpected("unknown SyncManager type " + in_quotes(text) + " (expected Outputs, Inputs, MBoxOut, MBoxIn or Unused)");
 }
 
 std::optional<MailboxProtocol> parse_protocol(std::string_view text) {
@@ -154,7 +154,7 @@ ValueResult<Requires> parse_requires(std::string_view text) {
         {"frame", Requires::Frame},
     }};
     if (auto value = lookup(trim(text), kValues)) return *value;
-    return unexpected("unknown Requires value " + quoted(text) + " (expected cycle or frame)");
+    return unexpected("unknown Requires value " + in_quotes(text) + " (expected cycle or frame)");
 }
 
 ValueResult<wire::Command> parse_command_code(std::string_view text) {
@@ -164,7 +164,7 @@ ValueResult<wire::Command> parse_command_code(std::string_view text) {
     if (!code) return unexpected(code.error());
     const auto command = static_cast<wire::Command>(*code);
     if (!wire::is_known(command)) {
-        return unexpected("command code " + quoted(text) + " is not an EtherCAT datagram type (0..14)");
+        return unexpected("command code " + in_quotes(text) + " is not an EtherCAT datagram type (0..14)");
     }
     return command;
 }

@@ -27,7 +27,7 @@ using ValueResult = Expected<T, std::string>;
 std::string_view trim(std::string_view text);
 
 // The text as it goes into a message: quoted, and shortened when long.
-std::string quoted(std::string_view text);
+std::string in_quotes(std::string_view text);
 
 // "1001", "#x03E9", "0x03E9", "-1", "+7" (surrounding whitespace ignored).
 // Values beyond the int64 range saturate, so they fail any field's range check.
@@ -45,14 +45,14 @@ enum class Negative {
 template <std::integral T>
 ValueResult<T> parse_number(std::string_view text, Negative negative = Negative::Reject) {
     const auto value = parse_integer(text);
-    if (!value) return unexpected(quoted(text) + " is not a number (expected decimal or #x hex)");
+    if (!value) return unexpected(in_quotes(text) + " is not a number (expected decimal or #x hex)");
     constexpr std::int64_t kMax = static_cast<std::int64_t>(std::numeric_limits<T>::max());
     std::int64_t min = static_cast<std::int64_t>(std::numeric_limits<T>::min());
     if constexpr (std::is_unsigned_v<T>) {
         if (negative == Negative::TwosComplement) min = -(kMax / 2) - 1;
     }
     if (*value < min || *value > kMax) {
-        return unexpected(quoted(text) + " is out of range " + std::to_string(min) + ".." + std::to_string(kMax));
+        return unexpected(in_quotes(text) + " is out of range " + std::to_string(min) + ".." + std::to_string(kMax));
     }
     return static_cast<T>(*value);  // a negative value wraps to its two's complement
 }

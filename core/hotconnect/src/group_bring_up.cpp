@@ -10,13 +10,12 @@
 #include "ecpair/sequencer/identification_update.hpp"
 #include "ecpair/wire/al_status.hpp"
 #include "ecpair/wire/esc_registers.hpp"
+#include "hotconnect_log.hpp"
 
 namespace ecpair::hotconnect {
 namespace {
 
 using sequencer::MasterState;
-
-std::shared_ptr<spdlog::logger> log() { return logger("hotconnect"); }
 
 constexpr std::uint8_t kErrorAcknowledge = 0x10;
 constexpr std::chrono::milliseconds kInitTimeout{2000};

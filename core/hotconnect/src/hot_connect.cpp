@@ -21,14 +21,13 @@
 #include "ecpair/wire/al_status.hpp"
 #include "ecpair/wire/esc_registers.hpp"
 #include "hot_connect_scan.hpp"
+#include "hotconnect_log.hpp"
 
 namespace ecpair::hotconnect {
 namespace {
 
 using master::EventKind;
 using sequencer::MasterState;
-
-std::shared_ptr<spdlog::logger> log() { return logger("hotconnect"); }
 
 constexpr std::uint32_t kNoValue = 0x10000;
 

@@ -6,6 +6,9 @@
 
 #include "ecpair/link/link_admin.hpp"
 
+// glibc's <net/if.h> first: <linux/if.h> then leaves out what glibc defines,
+// so both may meet in one translation unit (a unity build).
+#include <net/if.h>
 #include <linux/if.h>
 #include <linux/netlink.h>
 #include <linux/rtnetlink.h>

@@ -20,8 +20,6 @@
 namespace ecpair::master {
 namespace {
 
-std::string state_name(std::uint32_t state) { return wire::al_state_name(static_cast<std::uint8_t>(state)); }
-
 std::uint16_t adp_of(std::uint32_t address) { return static_cast<std::uint16_t>(address & 0xFFFF); }
 std::uint16_t ado_of(std::uint32_t address) { return static_cast<std::uint16_t>(address >> 16); }
 
@@ -100,7 +98,7 @@ std::string EventDescriber::datagram(const PlannedDatagram& d) const {
 
 std::string EventDescriber::cyclic_frame(std::uint32_t index, std::uint8_t state) const {
     if (plan_ == nullptr || index >= plan_->frames.size()) {
-        return fmt::format("cyclic frame {} ({})", index + 1, state_name(state));
+        return fmt::format("cyclic frame {} ({})", index + 1, wire::al_state_name(state));
     }
     std::vector<std::string> parts;
     const auto slave_state = static_cast<eni::SlaveState>(state);
@@ -110,7 +108,7 @@ std::string EventDescriber::cyclic_frame(std::uint32_t index, std::uint8_t state
                             ? fmt::format("{} 0x{:08x} {} B", wire::to_string(d.command), d.address, d.length)
                             : fmt::format("{} 0x{:04x}", wire::to_string(d.command), ado_of(d.address)));
     }
-    return fmt::format("cyclic frame {} of {} ({}: {})", index + 1, plan_->frames.size(), state_name(state),
+    return fmt::format("cyclic frame {} of {} ({}: {})", index + 1, plan_->frames.size(), wire::al_state_name(state),
                        parts.empty() ? std::string("no datagram") : fmt::format("{}", fmt::join(parts, ", ")));
 }
 

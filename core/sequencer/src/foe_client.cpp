@@ -15,7 +15,7 @@
 namespace ecpair::sequencer {
 namespace {
 
-constexpr std::size_t kOverhead = wire::MailboxHeader::kSize + wire::kFoeHeaderSize;
+constexpr std::size_t kFoeOverhead = wire::MailboxHeader::kSize + wire::kFoeHeaderSize;
 
 std::string describe(const wire::FoeMessage& message) {
     return std::visit(
@@ -45,11 +45,11 @@ Expected<std::vector<std::uint8_t>, ProtocolError> FoeClient::read(const std::st
                                                                    std::stop_token stop) {
     const Transfer transfer{fmt::format("FoE read '{}'", file), timeout, stop};
     const std::size_t recv_length = transport_.channel().recv.length;
-    if (recv_length <= kOverhead) {
+    if (recv_length <= kFoeOverhead) {
         return unexpected(protocol_error(ProtocolFailure::TooLong, transfer.what,
                                          fmt::format("the slave's {}-byte mailbox is too small", recv_length)));
     }
-    const std::size_t full_packet = recv_length - kOverhead;
+    const std::size_t full_packet = recv_length - kFoeOverhead;
     std::vector<std::uint8_t> file_data;
     wire::FoeMessage next = wire::FoeReadRequest{password, file};
     for (std::uint32_t expected = 1;; ++expected) {
@@ -89,12 +89,12 @@ Expected<void, ProtocolError> FoeClient::write(const std::string& file, std::uin
                                                std::chrono::milliseconds timeout, std::stop_token stop) {
     const Transfer transfer{fmt::format("FoE write '{}'", file), timeout, stop};
     const std::size_t send_length = transport_.channel().send.length;
-    if (send_length <= kOverhead || kOverhead + file.size() > send_length) {
+    if (send_length <= kFoeOverhead || kFoeOverhead + file.size() > send_length) {
         return unexpected(protocol_error(ProtocolFailure::TooLong, transfer.what,
                                          fmt::format("the file name does not fit the slave's {}-byte mailbox",
                                                      send_length)));
     }
-    const std::size_t full_packet = send_length - kOverhead;
+    const std::size_t full_packet = send_length - kFoeOverhead;
     wire::FoeMessage next = wire::FoeWriteRequest{password, file};
     std::size_t offset = 0;
     for (std::uint32_t packet = 0;; ++packet) {

@@ -22,12 +22,11 @@
 #include "ecpair/sequencer/soe_client.hpp"
 #include "ecpair/wire/datagram.hpp"
 #include "ecpair/wire/esc_registers.hpp"
+#include "ecpair/wire/mailbox.hpp"
 
 namespace ecpair::sequencer {
 namespace {
 
-constexpr std::uint16_t kSm1Status = wire::reg::kSmBase + wire::reg::kSmSize * 1 + 5;  // 0x080D
-constexpr std::uint8_t kMailboxFull = 0x08;
 constexpr std::chrono::milliseconds kDefaultPoll{10};
 constexpr std::chrono::milliseconds kPollRead{100};
 constexpr std::uint16_t kSiiCategoryStart = 0x40;
@@ -370,13 +369,13 @@ void MailboxService::poll_emergencies(std::stop_token stop) {
             auto session = mailbox->try_open();
             if (!session) continue;
             sessions.push_back(std::move(*session));
-            requests.push_back(bus::read_request(bus::SlaveAddress::station(mailbox->channel().station), kSm1Status, 1));
+            requests.push_back(bus::read_request(bus::SlaveAddress::station(mailbox->channel().station), wire::kSm1StatusRegister, 1));
         }
         if (requests.empty()) continue;
         const auto replies = bus_.exchange_all(requests);
         for (std::size_t k = 0; k < replies.size() && k < sessions.size(); ++k) {
             const auto& reply = replies[k];
-            if (!reply || reply->wkc != 1 || reply->data.empty() || (reply->data[0] & kMailboxFull) == 0) continue;
+            if (!reply || reply->wkc != 1 || reply->data.empty() || (reply->data[0] & wire::kSmStatusMailboxFull) == 0) continue;
             auto& transport = sessions[k].transport();
             auto buffer = transport.receive(clock_.now() + kPollRead, stop);
             if (buffer) transport.dispatch_unsolicited(*buffer);

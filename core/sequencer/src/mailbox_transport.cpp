@@ -13,14 +13,11 @@
 #include "ecpair/common/hex.hpp"
 #include "ecpair/common/log.hpp"
 #include "ecpair/wire/datagram.hpp"
-#include "ecpair/wire/esc_registers.hpp"
 #include "ecpair/wire/mailbox.hpp"
 
 namespace ecpair::sequencer {
 namespace {
 
-constexpr std::uint16_t kSm1StatusRegister = wire::reg::kSmBase + wire::reg::kSmSize * 1 + 5;  // 0x080D
-constexpr std::uint8_t kMailboxFull = 0x08;
 constexpr std::chrono::milliseconds kDatagramTimeout{100};
 
 bus::DatagramRequest fprd(std::uint16_t station, std::uint16_t ado, std::size_t length) {
@@ -115,9 +112,9 @@ Expected<void, MailboxError> MailboxTransport::send(ConstBytes message, Clock::t
 }
 
 Expected<bool, MailboxError> MailboxTransport::sm1_full() {
-    auto status = poll(fprd(channel_.station, kSm1StatusRegister, 1));
+    auto status = poll(fprd(channel_.station, wire::kSm1StatusRegister, 1));
     if (!status) return unexpected(std::move(status).error());
-    return *status && (*status)->wkc == 1 && !(*status)->data.empty() && ((*status)->data[0] & kMailboxFull) != 0;
+    return *status && (*status)->wkc == 1 && !(*status)->data.empty() && ((*status)->data[0] & wire::kSmStatusMailboxFull) != 0;
 }
 
 Expected<std::vector<std::uint8_t>, MailboxError> MailboxTransport::receive(Clock::time_point deadline,

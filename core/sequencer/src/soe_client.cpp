@@ -11,7 +11,7 @@
 namespace ecpair::sequencer {
 namespace {
 
-constexpr std::size_t kOverhead = wire::MailboxHeader::kSize + wire::SoeHeader::kSize;
+constexpr std::size_t kSoeOverhead = wire::MailboxHeader::kSize + wire::SoeHeader::kSize;
 
 std::vector<std::uint8_t> message(const wire::SoeHeader& header, ConstBytes data) {
     std::vector<std::uint8_t> out(wire::SoeHeader::kSize + data.size());
@@ -69,11 +69,11 @@ Expected<void, ProtocolError> SoeClient::write(std::uint8_t drive, std::uint16_t
     const Request request{fmt::format("SoE write {} of drive {}", wire::idn_text(idn), drive),
                           wire::SoeOpcode::WriteResponse, drive, idn, timeout, stop};
     const std::size_t send_length = transport_.channel().send.length;
-    if (send_length <= kOverhead) {
+    if (send_length <= kSoeOverhead) {
         return unexpected(protocol_error(ProtocolFailure::TooLong, request.what,
                                          fmt::format("the slave's {}-byte mailbox is too small", send_length)));
     }
-    const std::size_t capacity = send_length - kOverhead;
+    const std::size_t capacity = send_length - kSoeOverhead;
     const std::size_t fragments = data.empty() ? 1 : (data.size() + capacity - 1) / capacity;
     if (fragments > 0x10000) {
         return unexpected(protocol_error(ProtocolFailure::TooLong, request.what,

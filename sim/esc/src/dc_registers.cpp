@@ -18,10 +18,6 @@ namespace reg = wire::reg;
 constexpr std::uint16_t kDcBegin = reg::kDcReceiveTimes;
 constexpr std::uint16_t kDcEnd = 0x0A00;
 
-bool overlaps(std::uint32_t begin, std::uint32_t end, std::uint32_t other_begin, std::uint32_t other_end) {
-    return begin < other_end && other_begin < end;
-}
-
 }  // namespace
 
 DcUnit::DcUnit(EscMemory& memory, DcSupport support)
@@ -79,12 +75,12 @@ void DcUnit::filter_staged() const {
 
 void DcUnit::before_read(std::uint32_t begin, std::uint32_t end) {
     if (!has_system_time()) return;
-    if (overlaps(begin, end, reg::kDcSystemTime, reg::kDcSystemTime + 8)) {
+    if (regs::overlaps(begin, end, reg::kDcSystemTime, reg::kDcSystemTime + 8)) {
         // The local copy when the frame passed the reference clock.
         const std::uint64_t copy = system_time_at(frame_start_) - delay_;
         memory_.store<std::uint64_t>(reg::kDcSystemTime, support_ == DcSupport::Dc32 ? copy & 0xFFFFFFFFU : copy);
     }
-    if (overlaps(begin, end, regs::kDcActivationStatus, reg::kDcCycleTime0)) {
+    if (regs::overlaps(begin, end, regs::kDcActivationStatus, reg::kDcCycleTime0)) {
         sync_.refresh_registers(frame_start_, base());
     }
 }

@@ -23,8 +23,6 @@ namespace {
 
 namespace sdo_abort = wire::sdo_abort;
 
-// CompleteAccess carries subindex 0 (an 8-bit count) padded to 16 bits.
-constexpr std::size_t kSubindexZeroOnWire = 2;
 constexpr std::uint16_t kPdoAssignmentLast = 0x1C2F;
 
 bool is_pdo_mapping_index(std::uint16_t index) {

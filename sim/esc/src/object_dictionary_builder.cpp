@@ -42,7 +42,6 @@ constexpr std::size_t kMaxEntries = 255;   // subindex 0 counts them in 8 bits
 constexpr std::uint16_t kMaxMappedBits = 255;  // the bit length field of a mapping entry
 constexpr std::size_t kMappingEntrySize = 4;
 constexpr std::size_t kAssignmentEntrySize = 2;
-constexpr std::size_t kSubindexZeroOnWire = 2;
 
 using Objects = std::map<std::uint16_t, DictionaryObject>;
 namespace coe_type = wire::coe_type;

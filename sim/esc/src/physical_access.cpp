@@ -8,15 +8,12 @@
 #include <algorithm>
 
 #include "ecpair/wire/esc_registers.hpp"
+#include "register_map.hpp"
 
 namespace ecpair::sim {
 namespace {
 
 namespace reg = wire::reg;
-
-bool overlaps(std::uint32_t begin, std::uint32_t end, std::uint32_t other_begin, std::uint32_t other_end) {
-    return begin < other_end && other_begin < end;
-}
 
 void transfer_in(Bytes out, ConstBytes source, ReadMode mode) {
     if (mode == ReadMode::Copy) {
@@ -84,14 +81,14 @@ bool PhysicalAccess::write(std::uint32_t address, ConstBytes in) {
 
 void PhysicalAccess::read_registers(std::uint32_t address, Bytes out, ReadMode mode) {
     const auto end = static_cast<std::uint32_t>(address + out.size());
-    if (computed_ != nullptr && overlaps(address, end, reg::kDcSystemTime, reg::kDcCycleTime0)) {
+    if (computed_ != nullptr && regs::overlaps(address, end, reg::kDcSystemTime, reg::kDcCycleTime0)) {
         computed_->before_read(address, end);
     }
     transfer_in(out, memory_.bytes().subspan(address, out.size()), mode);
     // Reading DL status / AL status acknowledges their ECAT events.
     std::uint16_t cleared = 0;
-    if (overlaps(address, end, reg::kDlStatus, reg::kDlStatus + 2)) cleared |= regs::kEventDlStatus;
-    if (overlaps(address, end, reg::kAlStatus, reg::kAlStatus + 2)) cleared |= regs::kEventAlStatus;
+    if (regs::overlaps(address, end, reg::kDlStatus, reg::kDlStatus + 2)) cleared |= regs::kEventDlStatus;
+    if (regs::overlaps(address, end, reg::kAlStatus, reg::kAlStatus + 2)) cleared |= regs::kEventAlStatus;
     if (cleared != 0) {
         const auto request = memory_.load<std::uint16_t>(reg::kEcatEventRequest);
         memory_.store<std::uint16_t>(reg::kEcatEventRequest, static_cast<std::uint16_t>(request & ~cleared));

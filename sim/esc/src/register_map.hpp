@@ -24,6 +24,11 @@ inline constexpr std::uint16_t kUserRam = 0x0F80;
 inline constexpr std::uint16_t kProcessRam = 0x1000;
 inline constexpr std::uint32_t kAddressSpace = 0x10000;
 
+// Whether the address ranges [begin, end) and [other_begin, other_end) share a byte.
+inline bool overlaps(std::uint32_t begin, std::uint32_t end, std::uint32_t other_begin, std::uint32_t other_end) {
+    return begin < other_end && other_begin < end;
+}
+
 // Registers the simulator uses beyond wire/esc_registers.hpp.
 inline constexpr std::uint16_t kDlControlFlags = 0x0100;
 inline constexpr std::uint16_t kDlControlAlias = 0x0103;

@@ -13,7 +13,7 @@ namespace ecpair::sim {
 
 namespace {
 
-std::string quoted(std::string_view text) {
+std::string in_double_quotes(std::string_view text) {
     std::string out = "\"";
     for (const char c : text) {
         const auto byte = static_cast<unsigned char>(c);
@@ -79,7 +79,7 @@ std::string format_status(const Segment& segment) {
         text += fmt::format(
             " | {} name={} vendor={:#010x} product={:#010x} addr={:#06x} alias={:#06x} al={} code={:#06x} powered={} "
             "unknown={} ports={} errors={} group={}",
-            position, quoted(d.name), d.vendor_id, d.product_code, esc.station_address(), esc.station_alias(),
+            position, in_double_quotes(d.name), d.vendor_id, d.product_code, esc.station_address(), esc.station_alias(),
             wire::AlStatus{esc.al_status()}.to_string(), esc.al_status_code(), esc.powered() ? "yes" : "no",
             segment.is_unknown(position) ? "yes" : "no", port_states(esc), port_errors(esc), segment.group_of(position));
     }

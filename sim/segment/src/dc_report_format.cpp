@@ -27,7 +27,7 @@ std::string json_string(std::string_view text) {
     return out;
 }
 
-std::string quoted(std::string_view text) {
+std::string in_single_quotes(std::string_view text) {
     std::string out = "'";
     for (const char c : text) {
         const auto byte = static_cast<unsigned char>(c);
@@ -93,7 +93,7 @@ std::string format_dc_text(const DcReport& report, const Segment& segment) {
                        report.sync0_missed);
     for (const DcSlaveReport& slave : report.slaves) {
         const DcTruth& t = slave.truth;
-        out += fmt::format(" | {} {} dc={}", slave.position, quoted(segment.slave(slave.position).description().name),
+        out += fmt::format(" | {} {} dc={}", slave.position, in_single_quotes(segment.slave(slave.position).description().name),
                            to_string(t.support));
         if (!slave.powered) {
             out += " powered=no";

@@ -3,13 +3,9 @@
 #include <algorithm>
 
 #include "ecpair/common/log.hpp"
+#include "linkguard_log.hpp"
 
 namespace ecpair::linkguard {
-namespace {
-
-std::shared_ptr<spdlog::logger> log() { return logger("linkguard"); }
-
-}  // namespace
 
 std::string_view to_string(GuardState state) {
     switch (state) {

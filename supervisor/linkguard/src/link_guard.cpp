@@ -26,13 +26,12 @@
 #include "ecpair/common/log.hpp"
 #include "ecpair/common/realtime.hpp"
 #include "ecpair/linkguard/link_guard_events.hpp"
+#include "linkguard_log.hpp"
 
 extern char** environ;
 
 namespace ecpair::linkguard {
 namespace {
-
-std::shared_ptr<spdlog::logger> log() { return logger("linkguard"); }
 
 constexpr int kGuardFd = 3;
 constexpr rlim_t kHighestGuardFd = 65535;

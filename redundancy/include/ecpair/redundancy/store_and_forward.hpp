@@ -84,7 +84,6 @@ public:
     StoreAndForwardCounters counters() const;
 
 private:
-    static std::size_t index(master::LinkRole role) { return static_cast<std::size_t>(role); }
     static std::uint8_t forwarding_bit(master::LinkRole leaving_by);
 
     // Sets the forwarding bit of `leaving_by` unless the frame carries it already.

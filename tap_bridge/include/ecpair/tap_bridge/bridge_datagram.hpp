@@ -20,6 +20,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -36,6 +37,12 @@ inline constexpr std::uint16_t kBridgeAdo = 0x4254;
 
 enum class BridgeKind : std::uint8_t { Data = 1, Poll = 2, Answer = 3 };
 std::string_view to_string(BridgeKind kind);
+
+// The kind byte of a bridge datagram's data, without decode's checks: the
+// quick look that decides whether a datagram needs decoding at all.
+// nullopt when the data is too short to hold it; any other byte is returned
+// as it is (a value no BridgeKind names compares unequal to all of them).
+std::optional<BridgeKind> peek_kind(ConstBytes data);
 
 // Sizes: one datagram fills one EtherCAT frame at most (1486 data bytes).
 inline constexpr std::size_t kBridgeHeaderSize = 24;

@@ -22,7 +22,6 @@ public:
     Expected<std::uint32_t, BusError> read_dword(SlaveAddress slave, std::uint16_t word_address);
 
 private:
-    Expected<std::uint16_t, BusError> wait_idle(SlaveAddress slave);
     Expected<std::vector<std::uint8_t>, BusError> read_chunk(SlaveAddress slave, std::uint16_t word_address);
 
     BusAccess& bus_;

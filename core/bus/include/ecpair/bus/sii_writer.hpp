@@ -29,8 +29,6 @@ public:
     Expected<std::uint16_t, BusError> set_station_alias(SlaveAddress slave, std::uint16_t alias);
 
 private:
-    Expected<std::uint16_t, BusError> wait_idle(SlaveAddress slave);
-
     BusAccess& bus_;
     std::uint32_t busy_polls_;
 };

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <string_view>
 
@@ -11,5 +12,7 @@ enum class LinkRole : std::uint8_t { Main = 0, Red = 1 };
 
 inline std::string_view to_string(LinkRole role) { return role == LinkRole::Main ? "MAIN" : "RED"; }
 inline LinkRole other(LinkRole role) { return role == LinkRole::Main ? LinkRole::Red : LinkRole::Main; }
+// The link's slot in per-link arrays (MAIN 0, RED 1).
+inline std::size_t index(LinkRole role) { return static_cast<std::size_t>(role); }
 
 }  // namespace ecpair::master

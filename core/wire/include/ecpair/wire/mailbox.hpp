@@ -32,6 +32,11 @@ struct MailboxHeader {
     friend bool operator==(const MailboxHeader&, const MailboxHeader&) = default;
 };
 
+// The master learns that a slave has written its mailbox from the status byte
+// of SM1 (the slave-to-master mailbox, 0x0800 + 8 + 5): bit 3, mailbox full.
+inline constexpr std::uint16_t kSm1StatusRegister = 0x080D;
+inline constexpr std::uint8_t kSmStatusMailboxFull = 0x08;
+
 // The next mailbox counter after `counter` (1..7, wrapping; 0 is never used).
 inline std::uint8_t next_mailbox_counter(std::uint8_t counter) {
     return static_cast<std::uint8_t>(counter >= 7 ? 1 : counter + 1);

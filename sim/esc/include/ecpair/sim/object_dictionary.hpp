@@ -72,6 +72,9 @@ struct DictionaryObject {
     ObjectEntry* entry(std::uint8_t subindex);
 };
 
+// CompleteAccess carries subindex 0 (an 8-bit count) padded to 16 bits.
+inline constexpr std::size_t kSubindexZeroOnWire = 2;
+
 // Which object an SDO addresses, and how: one entry, or with CompleteAccess
 // the whole object from subindex 0 (subindex 0 padded to 16 bits) or 1.
 struct SdoAddress {
