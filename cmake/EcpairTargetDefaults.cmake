@@ -10,6 +10,12 @@ set(ECPAIR_WARNINGS
   -Wimplicit-fallthrough)
 # -Wnull-dereference is left out: with -O2, GCC 12 reports it inside Boost
 # and libstdc++ headers (boost::program_options string values).
+# GCC warns when a class holds a type of an anonymous namespace outside the
+# main file, because a header could define it twice; in a unity build every
+# source file is outside the main file, so the warning would only be noise.
+if(CMAKE_UNITY_BUILD AND CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
+  list(APPEND ECPAIR_WARNINGS -Wno-subobject-linkage)
+endif()
 if(ECPAIR_WERROR)
   list(APPEND ECPAIR_WARNINGS -Werror)
 endif()

@@ -32,6 +32,14 @@
 #            timeout and partner silence ten times as long and run the pair
 #            at 4 ms (tests/support/ecpaird_process.cpp, pair_netns_tests.cpp);
 #            the main stage checks the timing.
+# Every stage is a unity build (CMAKE_UNITY_BUILD: the libraries' and
+# programs' files compiled a few at a time, so the heavy headers - protobuf,
+# Boost, Asio - are read once per batch, not once per file; the test files
+# stay one per translation unit, tests/CMakeLists.txt), and main links without
+# link-time optimisation: LTO made each of its 65 links re-optimise the
+# libraries (about 10 minutes of CPU), and the tests check behaviour, not the
+# last per cent of speed (the benchmarks' figures in docs/PERFORMANCE.md are
+# from LTO builds). Figures: docs/PERFORMANCE.md "CI stages".
 # ECPAIR_TEST_STAGES picks stages (default all three: "main asan tsan";
 # their times: docs/PERFORMANCE.md "CI stages"). Every selected stage
 # runs even when an earlier one failed; the exit status is 1 if any failed.
@@ -74,14 +82,15 @@ run_ctest() {
 
 stage_main() {
   bash deploy/install-deps.sh
-  cmake -S . -B build-main -DCMAKE_BUILD_TYPE=Release -DECPAIR_WERROR=ON -DECPAIR_BUILD_UNIT_TESTS=OFF
+  cmake -S . -B build-main -DCMAKE_BUILD_TYPE=Release -DECPAIR_WERROR=ON -DECPAIR_BUILD_UNIT_TESTS=OFF \
+    -DCMAKE_UNITY_BUILD=ON -DECPAIR_LTO=OFF
   cmake --build build-main -j"$jobs"
   run_ctest build-main
 }
 
 stage_asan() {
   bash deploy/install-deps.sh
-  cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_COMPILER=clang++ \
+  cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_UNITY_BUILD=ON \
     -DECPAIR_WERROR=ON -DECPAIR_SANITIZE=address,undefined -DECPAIR_BUILD_BENCH=OFF -DECPAIR_BUILD_NETNS_TESTS=OFF
   cmake --build build-asan -j"$jobs"
   ASAN_SYMBOLIZER_PATH=$(command -v llvm-symbolizer) \
@@ -105,7 +114,7 @@ stage_tsan() {
   # not errors here: GCC 12 at -O1 with -fsanitize=thread reports
   # -Wmaybe-uninitialized on std::optional where -O0, -O2 and -O3 do not, and
   # the other stages hold the code to the warnings.
-  cmake -S . -B build-tsan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g" \
+  cmake -S . -B build-tsan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g" -DCMAKE_UNITY_BUILD=ON \
     -DECPAIR_SANITIZE=thread -DECPAIR_BUILD_BENCH=OFF
   cmake --build build-tsan -j"$jobs" --target "${tsan_targets[@]}"
   # TSan's shadow memory does not fit a layout randomized with more than
